@@ -1,0 +1,118 @@
+#pragma once
+/// A bounding volume hierarchy over abstract primitives, after madmann91/bvh: the builder takes spans of boxes and
+/// centers and returns flat nodes plus a primitive permutation; traversal is a template over the leaf test, so
+/// the hot loop has no virtual call and no std::function.
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "core/aabb.h"
+#include "core/ray.h"
+
+namespace pt {
+
+/// 32 bytes. Interior nodes (count == 0) have children `first` and `first + 1`; leaves own
+/// prim_indices[first, first + count).
+struct BvhNode {
+  AABB bounds;
+  uint32_t first = 0;
+  uint32_t count = 0;
+  bool is_leaf() const { return count != 0; }
+};
+
+/// The builder never makes a tree deeper than this (it falls back to median splits), so traversal stacks are fixed.
+inline constexpr int kBvhMaxDepth = 96;
+
+struct Bvh {
+  std::vector<BvhNode> nodes;          ///< nodes[0] is the root
+  std::vector<uint32_t> prim_indices;  ///< leaf order -> input primitive index
+  int depth = 0;
+};
+
+struct BvhBuildOptions {
+  int bins = 32;              ///< SAH bins per axis (Wald 2007, "On fast construction of SAH-based BVHs")
+  int max_leaf_size = 8;      ///< a leaf is forced to split above this many primitives
+  float traversal_cost = 1.0f;  ///< cost of one node visit relative to one primitive test
+};
+
+/// Binned SAH build, top-down. `boxes[i]` bounds primitive i, `centers[i]` is its representative point (centroid).
+Bvh build_bvh(std::span<const AABB> boxes, std::span<const vec3> centers, const BvhBuildOptions& options = {});
+
+/// Expected cost of a random ray under the SAH model (MacDonald and Booth 1990), normalized by the root area:
+/// sum over interior nodes of traversal_cost * A(n)/A(root) + sum over leaves of count * A(n)/A(root).
+float sah_cost(const Bvh& bvh, float traversal_cost = 1.0f);
+
+/// Per-ray data for the slab test, computed once per ray.
+struct RayBoxData {
+  vec3 org;
+  vec3 inv_dir;
+  int dir_neg[3];
+};
+inline RayBoxData make_ray_box_data(const Ray& ray) {
+  RayBoxData r;
+  r.org = ray.org;
+  for (int i = 0; i < 3; ++i) {
+    r.inv_dir[i] = ray.dir[i] != 0.0f ? 1.0f / ray.dir[i] : std::copysign(kInfinity, ray.dir[i]);
+    r.dir_neg[i] = r.inv_dir[i] < 0.0f;
+  }
+  return r;
+}
+
+/// Slab test; returns the entry distance or +inf on a miss. Robust: the far distance is scaled up by
+/// 1 + 2 gamma(3) (Ize 2013, "Robust BVH Ray Traversal"), and NaNs from 0 * inf never tighten the interval.
+inline float intersect_box(const AABB& b, const RayBoxData& r, float tmax) {
+  constexpr float kRobust = 1.0f + 2.0f * gamma_bound(3);
+  float t0 = 0.0f, t1 = tmax;
+  for (int i = 0; i < 3; ++i) {
+    float near = ((r.dir_neg[i] ? b.hi[i] : b.lo[i]) - r.org[i]) * r.inv_dir[i];
+    float far = ((r.dir_neg[i] ? b.lo[i] : b.hi[i]) - r.org[i]) * r.inv_dir[i];
+    far *= kRobust;
+    t0 = near > t0 ? near : t0;
+    t1 = far < t1 ? far : t1;
+  }
+  return t0 <= t1 ? t0 : kInfinity;
+}
+
+/// Ordered front-to-back traversal. `leaf(prim_begin, prim_end, ray)` tests the primitives of a leaf (leaf order
+/// positions) and returns true if it found a hit, shrinking ray.tmax itself. With kAnyHit the traversal stops at
+/// the first hit (shadow rays).
+template <bool kAnyHit, class LeafTest>
+bool traverse_bvh(const Bvh& bvh, Ray& ray, LeafTest&& leaf) {
+  if (bvh.nodes.empty()) return false;
+  const RayBoxData rd = make_ray_box_data(ray);
+  struct Entry { uint32_t node; float t; };
+  Entry stack[kBvhMaxDepth + 2];
+  int top = 0;
+  bool hit = false;
+  if (intersect_box(bvh.nodes[0].bounds, rd, ray.tmax) == kInfinity) return false;
+  uint32_t node_index = 0;
+  for (;;) {
+    const BvhNode& node = bvh.nodes[node_index];
+    if (node.is_leaf()) {
+      if (leaf(node.first, node.first + node.count, ray)) {
+        hit = true;
+        if constexpr (kAnyHit) return true;
+      }
+    } else {
+      uint32_t left = node.first, right = node.first + 1;
+      float tl = intersect_box(bvh.nodes[left].bounds, rd, ray.tmax);
+      float tr = intersect_box(bvh.nodes[right].bounds, rd, ray.tmax);
+      if (tl != kInfinity && tr != kInfinity) {
+        if (tr < tl) { std::swap(left, right); std::swap(tl, tr); }
+        stack[top++] = {right, tr};
+        node_index = left;
+        continue;
+      }
+      if (tl != kInfinity) { node_index = left; continue; }
+      if (tr != kInfinity) { node_index = right; continue; }
+    }
+    // Pop the nearest pending node that is still in front of the closest hit found so far.
+    for (;;) {
+      if (top == 0) return hit;
+      Entry e = stack[--top];
+      if (e.t <= ray.tmax) { node_index = e.node; break; }
+    }
+  }
+}
+
+}  // namespace pt

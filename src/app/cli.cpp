@@ -1,0 +1,152 @@
+/// The command line, parsed with CLI11; every malformed value becomes one error line and exit code 2.
+#include <unistd.h>
+
+#include <CLI/CLI.hpp>
+#include <charconv>
+#include <filesystem>
+
+#include "app/options.h"
+
+namespace pt {
+
+namespace {
+
+std::string lower_extension(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+  return ext;
+}
+
+/// "WxH" with both in [1, 16384].
+bool parse_size(const std::string& s, int& w, int& h) {
+  size_t x = s.find_first_of("xX");
+  if (x == std::string::npos) return false;
+  auto parse = [](std::string_view v, int& out) {
+    if (v.empty()) return false;
+    auto [ptr, ec] = std::from_chars(v.data(), v.data() + v.size(), out);
+    return ec == std::errc() && ptr == v.data() + v.size() && out >= 1 && out <= 16384;
+  };
+  return parse(std::string_view(s).substr(0, x), w) && parse(std::string_view(s).substr(x + 1), h);
+}
+
+std::string check_output_dir(const std::string& option, const std::string& path) {
+  std::filesystem::path parent = std::filesystem::path(path).parent_path();
+  if (parent.empty()) parent = ".";
+  std::error_code ec;
+  if (!std::filesystem::is_directory(parent, ec)) return option + ": directory does not exist: " + parent.string();
+  if (::access(parent.c_str(), W_OK) != 0) return option + ": directory is not writable: " + parent.string();
+  if (std::filesystem::is_directory(path, ec)) return option + ": is a directory: " + path;
+  return {};
+}
+
+}  // namespace
+
+ParseOutcome parse_command_line(int argc, const char* const* argv) {
+  AppOptions o;
+  CLI::App app{"ptview: an interactive progressive path tracer. Without --frames it opens a window."};
+  app.set_version_flag("--version", "ptview 0.1");
+  std::string size = "512x512", integrator = "mis", light_sampling = "solid-angle";
+  int frames = 0;
+  double time_limit = 0;
+  long long seed = 0;
+  app.add_option("scene", o.scene_path, "Scene file: .obj (materials from its .mtl) or .json; omitted: built-in scene");
+  auto* frames_opt = app.add_option("--frames", frames, "Headless: render N progressive frames, write --out, exit");
+  app.add_option("--spp-per-frame", o.render.spp_per_frame, "Samples per pixel added each frame (default 1)");
+  app.add_option("--size", size, "Image size WxH (default 512x512)");
+  app.add_option("--seed", seed, "Random seed (default 0)");
+  app.add_option("--threads", o.render.threads, "Worker threads (default: all cores)");
+  auto* out_opt = app.add_option("--out", o.out, "Output image: .png (tonemapped sRGB), .pfm or .exr (linear mean)");
+  app.add_option("--max-depth", o.render.max_depth, "Maximum path depth, pbrt convention (default 64)");
+  app.add_option("--integrator", integrator, "mis (default), nee or bsdf");
+  app.add_option("--light-sampling", light_sampling, "area or solid-angle (default)");
+  app.add_option("--stats-json", o.stats_json, "Write run statistics as JSON");
+  app.add_option("--reference", o.reference, "Reference image (.pfm/.exr) for --error-csv");
+  app.add_option("--error-csv", o.error_csv, "After every frame append frame,spp,seconds,rmse,rel_mse");
+  auto* time_opt = app.add_option("--time-limit", time_limit, "Headless: stop after S seconds");
+  app.add_option("--exposure", o.display.exposure, "Display exposure in stops (PNG output and viewer)");
+  std::string tonemap = "clamp";
+  app.add_option("--tonemap", tonemap, "clamp (default), reinhard or aces (PNG output and viewer)");
+  int quit_after = 0;
+  auto* quit_opt = app.add_option("--quit-after-frames", quit_after, "Viewer: quit after N rendered frames");
+  app.add_option("--screenshot", o.viewer.screenshot, "Viewer: save a PNG of the window at exit");
+  app.add_option("--script", o.viewer.script, "Viewer: run scripted input from FILE");
+
+  ParseOutcome result;
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp&) {
+    result.message = app.help();
+    return result;
+  } catch (const CLI::CallForVersion&) {
+    result.message = "ptview 0.1\n";
+    return result;
+  } catch (const CLI::ParseError& e) {
+    result.exit_code = 2;
+    result.message = e.what();
+    return result;
+  }
+  auto fail = [&](std::string msg) {
+    result.exit_code = 2;
+    result.message = std::move(msg);
+    return result;
+  };
+  if (!parse_size(size, o.render.width, o.render.height))
+    return fail("--size: expected WxH with W and H from 1 to 16384, got '" + size + "'");
+  if (frames_opt->count()) {
+    if (frames < 1) return fail("--frames: must be at least 1, got " + std::to_string(frames));
+    o.frames = frames;
+  }
+  if (o.render.spp_per_frame < 1 || o.render.spp_per_frame > 1 << 20)
+    return fail("--spp-per-frame: must be from 1 to 1048576");
+  if (seed < 0) return fail("--seed: must be non-negative");
+  o.render.seed = uint64_t(seed);
+  if (o.render.threads < 0 || o.render.threads > 1024) return fail("--threads: must be from 0 (all cores) to 1024");
+  if (o.render.max_depth < 0 || o.render.max_depth > 1000000) return fail("--max-depth: must be from 0 to 1000000");
+  if (integrator == "mis") o.render.integrator = IntegratorKind::mis;
+  else if (integrator == "nee") o.render.integrator = IntegratorKind::nee;
+  else if (integrator == "bsdf") o.render.integrator = IntegratorKind::bsdf;
+  else return fail("--integrator: expected mis, nee or bsdf, got '" + integrator + "'");
+  if (light_sampling == "area") o.render.light_sampling = LightSampling::area;
+  else if (light_sampling == "solid-angle") o.render.light_sampling = LightSampling::solid_angle;
+  else return fail("--light-sampling: expected area or solid-angle, got '" + light_sampling + "'");
+  if (tonemap == "clamp" || tonemap == "none") o.display.tonemap = Tonemap::clamp;
+  else if (tonemap == "reinhard") o.display.tonemap = Tonemap::reinhard;
+  else if (tonemap == "aces") o.display.tonemap = Tonemap::aces;
+  else return fail("--tonemap: expected clamp, reinhard or aces, got '" + tonemap + "'");
+  if (!std::isfinite(o.display.exposure) || std::abs(o.display.exposure) > 64)
+    return fail("--exposure: must be a finite number of stops from -64 to 64");
+  if (time_opt->count()) {
+    if (!(time_limit > 0) || !std::isfinite(time_limit)) return fail("--time-limit: must be a positive number of seconds");
+    o.time_limit = time_limit;
+  }
+  if (quit_opt->count()) {
+    if (quit_after < 1) return fail("--quit-after-frames: must be at least 1");
+    o.viewer.quit_after_frames = quit_after;
+  }
+  o.out_given = out_opt->count() > 0;
+  if (!o.out_given) o.out = "ptview.png";
+  if (!is_supported_image_extension(o.out)) return fail("--out: unsupported image type '" + o.out + "' (use .png, .pfm or .exr)");
+  if (o.out_given) {
+    if (std::string err = check_output_dir("--out", o.out); !err.empty()) return fail(err);
+  }
+  if (!o.viewer.screenshot.empty()) {
+    if (lower_extension(o.viewer.screenshot) != ".png") return fail("--screenshot: must be a .png file");
+    if (std::string err = check_output_dir("--screenshot", o.viewer.screenshot); !err.empty()) return fail(err);
+  }
+  if (!o.stats_json.empty())
+    if (std::string err = check_output_dir("--stats-json", o.stats_json); !err.empty()) return fail(err);
+  if (!o.error_csv.empty()) {
+    if (o.reference.empty()) return fail("--error-csv: needs --reference");
+    if (std::string err = check_output_dir("--error-csv", o.error_csv); !err.empty()) return fail(err);
+  }
+  if (!o.reference.empty()) {
+    std::string ext = lower_extension(o.reference);
+    if (ext != ".pfm" && ext != ".exr") return fail("--reference: must be a .pfm or .exr file: " + o.reference);
+  }
+  o.viewer.stats_json = o.stats_json;
+  if (o.out_given) o.viewer.out = o.out;
+  result.options = std::move(o);
+  return result;
+}
+
+}  // namespace pt

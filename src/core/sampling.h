@@ -1,0 +1,59 @@
+#pragma once
+/// Sampling warps. Each takes its uniform random numbers as arguments (Mitsuba 3 style), comes with its pdf, and is
+/// chi-square tested in tests/core/test_sampling.cpp. References: pbrt-v4 section A.5 and util/sampling.h.
+#include <span>
+#include <vector>
+
+#include "core/math.h"
+
+namespace pt {
+
+/// Concentric map of [0,1)^2 to the unit disk (Shirley and Chiu 1997): area preserving, low distortion.
+vec2 sample_uniform_disk_concentric(vec2 u);
+
+/// Cosine-weighted direction on the hemisphere around +z (Malley's method). pdf = cos(theta) / pi.
+vec3 sample_cosine_hemisphere(vec2 u);
+inline float cosine_hemisphere_pdf(float cos_theta) { return std::max(cos_theta, 0.0f) * kInvPi; }
+
+/// Uniform direction on the unit sphere. pdf = 1 / (4 pi).
+vec3 sample_uniform_sphere(vec2 u);
+inline float uniform_sphere_pdf() { return 1.0f / (4.0f * kPi); }
+
+/// Uniform direction in the cone around +z with half-angle acos(cos_theta_max). pdf = 1 / (2 pi (1 - cos_theta_max)).
+/// Stable for tiny cones (uses 1 - cos computed from sin^2 where that is more accurate).
+vec3 sample_uniform_cone(vec2 u, float cos_theta_max);
+float uniform_cone_pdf(float cos_theta_max);
+
+/// Uniform point on a triangle as barycentrics (b0, b1, b2), b0 + b1 + b2 = 1 (the warp of Heitz 2019 used by
+/// pbrt-v4). The point is b0 p0 + b1 p1 + b2 p2; pdf = 1 / area.
+vec3 sample_uniform_triangle(vec2 u);
+
+/// The solid angle subtended by the rectangle {corner + a ex + b ey : a, b in [0,1]} (ex orthogonal to ey) at `ref`,
+/// with what is needed to sample it uniformly in solid angle (Urena, Fajardo and King 2013, "An Area-Preserving
+/// Parametrization for Spherical Rectangles").
+struct SphericalRectangle {
+  vec3 o{0.0f}, x{1, 0, 0}, y{0, 1, 0}, z{0, 0, 1};  ///< local frame at ref, z toward the rectangle plane
+  float z0 = 0, x0 = 0, y0 = 0, x1 = 0, y1 = 0;       ///< rectangle bounds in that frame
+  float b0 = 0, b1 = 0, k = 0;
+  float solid_angle = 0;                            ///< steradians; 0 if degenerate (ref in the plane, ...)
+};
+/// Returns false (and solid_angle 0) when the rectangle is degenerate as seen from ref.
+bool make_spherical_rectangle(vec3 ref, vec3 corner, vec3 ex, vec3 ey, SphericalRectangle& out);
+/// A point on the rectangle; its density in solid angle at ref is 1 / solid_angle.
+vec3 sample_spherical_rectangle(const SphericalRectangle& sr, vec2 u);
+
+/// A discrete distribution over indices, proportional to non-negative weights (used to pick a light by power).
+struct DiscreteDistribution {
+  std::vector<float> cdf;  ///< size n + 1, cdf[0] = 0, cdf[n] = 1
+  std::vector<float> pmf_table;
+
+  DiscreteDistribution() = default;
+  /// Weights must be finite and >= 0; if all are 0 every index gets equal probability.
+  explicit DiscreteDistribution(std::span<const float> weights);
+  size_t size() const { return pmf_table.size(); }
+  float pmf(size_t i) const { return pmf_table[i]; }
+  /// Index for u in [0,1). Optionally returns its pmf and u remapped to [0,1) within the chosen bucket (for reuse).
+  size_t sample(float u, float* pmf_out = nullptr, float* u_remapped = nullptr) const;
+};
+
+}  // namespace pt

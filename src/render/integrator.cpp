@@ -1,0 +1,116 @@
+#include "render/integrator.h"
+
+#include "render/bsdf.h"
+
+namespace pt {
+
+namespace {
+
+/// The state carried from one path vertex to the next for MIS of a later emitter hit.
+struct PrevVertex {
+  vec3 p{0.0f};
+  float bsdf_pdf = 0.0f;
+  bool delta = true;  ///< the camera counts as a delta "bounce": emission seen directly is always added
+};
+
+vec3 direct_light(const RenderScene& scene, const RenderParams& params, const SurfaceHit& sh,
+                  const ShadingContext& sc, const Material& m, PixelSampler& sampler, RenderCounters& c) {
+  float u_light = sampler.next1d();
+  vec2 u = sampler.next2d();
+  float pmf = 0.0f;
+  size_t li = scene.lights.power.sample(u_light, &pmf);
+  const Light& light = scene.lights.lights[li];
+  LightSample ls;
+  if (!sample_light(light, sh.sp.p, u, params.light_sampling, ls) || !(ls.pdf > 0.0f)) {
+    ++c.shadow_skipped_backfacing;
+    return vec3(0.0f);
+  }
+  vec3 f = eval_bsdf_cos(m, sc, ls.wi);
+  if (is_black(f)) {
+    ++c.shadow_skipped_zero_bsdf;
+    return vec3(0.0f);
+  }
+  ++c.shadow_rays;
+  if (intersect_any(scene.trace(), spawn_ray_to(sh.sp, ls.point))) return vec3(0.0f);
+  float light_pdf_total = pmf * ls.pdf;
+  float weight = 1.0f;
+  if (params.integrator == IntegratorKind::mis) weight = power_heuristic(light_pdf_total, bsdf_pdf(m, sc, ls.wi));
+  return f * ls.radiance * (weight / light_pdf_total);
+}
+
+}  // namespace
+
+vec3 trace_path(const RenderScene& scene, const RenderParams& params, Ray ray, PixelSampler& sampler,
+                RenderCounters& c) {
+  vec3 radiance(0.0f);
+  vec3 beta(1.0f);
+  float eta_scale = 1.0f;
+  PrevVertex prev;
+  const bool sample_lights = params.integrator != IntegratorKind::bsdf && !scene.lights.empty();
+  ++c.camera_rays;
+  for (int depth = 0;; ++depth) {
+    Hit hit;
+    if (!intersect_closest(scene.trace(), ray, hit)) {
+      // The background is never light-sampled, so BSDF sampling always counts it in full.
+      radiance += beta * scene.background;
+      ++c.paths_escaped;
+      break;
+    }
+    SurfaceHit sh = make_surface_hit(scene, ray, hit);
+    const Material& m = scene.materials[sh.material];
+    vec3 wo = -ray.dir;
+    bool front = glm::dot(wo, sh.sp.ng) > 0.0f;
+
+    if (front && m.emissive()) {
+      if (prev.delta || params.integrator == IntegratorKind::bsdf || sh.light < 0) {
+        radiance += beta * m.emission;
+      } else if (params.integrator == IntegratorKind::mis) {
+        const Light& light = scene.lights.lights[size_t(sh.light)];
+        float lpdf = scene.lights.power.pmf(size_t(sh.light)) *
+                     light_pdf(light, prev.p, ray.dir, hit.t, sh.sp.ng, params.light_sampling);
+        radiance += beta * m.emission * power_heuristic(prev.bsdf_pdf, lpdf);
+      }
+      // nee: this emitter was already counted by light sampling at the previous vertex.
+    }
+    if (depth == params.max_depth) {
+      ++c.paths_ended_max_depth;
+      break;
+    }
+
+    ShadingContext sc;
+    sc.wo = wo;
+    sc.entering = front;
+    sc.ng = front ? sh.sp.ng : -sh.sp.ng;
+    sc.n = front ? sh.ns : -sh.ns;
+
+    if (sample_lights) {
+      if (is_delta(m)) ++c.light_sampling_skipped_specular;
+      else radiance += beta * direct_light(scene, params, sh, sc, m, sampler, c);
+    }
+
+    float u_lobe = sampler.next1d();
+    BsdfSample bs;
+    if (!sample_bsdf(m, sc, u_lobe, sampler.next2d(), bs)) break;
+    beta *= bs.weight;
+    eta_scale *= bs.eta_scale;
+    prev = {sh.sp.p, bs.pdf, bs.delta};
+    ray = spawn_ray(sh.sp, bs.wi);
+    ++c.bounce_rays;
+
+    // Russian roulette on the throughput with the eta^2 scaling undone (pbrt-v4 section 13.4.4).
+    vec3 rr_beta = beta / eta_scale;
+    float rr_max = max_component(rr_beta);
+    if (!(rr_max > 0.0f)) break;
+    if (rr_max < 1.0f && depth >= 2) {
+      float q = std::max(0.05f, 1.0f - rr_max);
+      if (sampler.next1d() < q) {
+        ++c.paths_ended_roulette;
+        break;
+      }
+      beta /= 1.0f - q;
+    }
+  }
+  return radiance;
+}
+
+}  // namespace pt

@@ -1,0 +1,186 @@
+#include "render/light.h"
+
+#include "core/frame.h"
+
+namespace pt {
+
+Light make_rect_light(vec3 corner, vec3 edge1, vec3 edge2, vec3 emission) {
+  Light l;
+  l.kind = LightKind::rect;
+  l.p0 = corner;
+  l.e1 = edge1;
+  l.e2 = edge2;
+  vec3 c = glm::cross(edge1, edge2);
+  l.area = glm::length(c);
+  l.n = l.area > 0.0f ? c / l.area : vec3(0, 0, 1);
+  float l1 = glm::length(edge1), l2 = glm::length(edge2);
+  l.rectangular = l.area > 0.0f && std::abs(glm::dot(edge1, edge2)) <= 1e-5f * l1 * l2;
+  l.emission = emission;
+  return l;
+}
+
+Light make_triangle_light(vec3 p0, vec3 p1, vec3 p2, vec3 emission) {
+  Light l;
+  l.kind = LightKind::triangle;
+  l.p0 = p0;
+  l.e1 = p1 - p0;
+  l.e2 = p2 - p0;
+  vec3 c = glm::cross(l.e1, l.e2);
+  float len = glm::length(c);
+  l.area = 0.5f * len;
+  l.n = len > 0.0f ? c / len : vec3(0, 0, 1);
+  l.emission = emission;
+  return l;
+}
+
+Light make_sphere_light(vec3 center, float radius, vec3 emission) {
+  Light l;
+  l.kind = LightKind::sphere;
+  l.p0 = center;
+  l.radius = radius;
+  l.area = 4.0f * kPi * radius * radius;
+  l.emission = emission;
+  return l;
+}
+
+float light_power(const Light& light) {
+  float p = luminance(light.emission) * light.area * kPi;
+  return std::isfinite(p) && p > 0.0f ? p : 0.0f;
+}
+
+namespace {
+
+/// Converts an area density at a point on the light to solid angle at the receiver: pdf_A * d^2 / |cos theta_l|.
+float area_to_solid_angle(float pdf_area, float dist, float cos_light) {
+  float c = std::abs(cos_light);
+  if (!(c > 0.0f)) return 0.0f;
+  float pdf = pdf_area * dist * dist / c;
+  return std::isfinite(pdf) ? pdf : 0.0f;
+}
+
+/// Fills the geometric part of a sample at point p with normal n (planar lights).
+bool finish_planar(const Light& light, vec3 ref, vec3 p, vec3 p_error, LightSample& out) {
+  vec3 d = p - ref;
+  float dist = glm::length(d);
+  if (!(dist > 0.0f)) return false;
+  out.point = {p, p_error, light.n};
+  out.wi = d / dist;
+  out.dist = dist;
+  float cos_light = -glm::dot(out.wi, light.n);
+  out.radiance = cos_light > 0.0f ? light.emission : vec3(0.0f);
+  return cos_light > 0.0f;
+}
+
+bool rect_solid_angle_usable(const Light& light, vec3 ref, SphericalRectangle& sr) {
+  return light.rectangular && make_spherical_rectangle(ref, light.p0, light.e1, light.e2, sr) &&
+         sr.solid_angle > 1e-7f;
+}
+
+bool sample_sphere(const Light& light, vec3 ref, vec2 u, LightSample& out) {
+  const vec3 c = light.p0;
+  const float r = light.radius;
+  vec3 to_center = c - ref;
+  float d2 = glm::dot(to_center, to_center);
+  if (d2 <= r * r * (1.0f + 1e-4f)) {
+    // Receiver on or inside the sphere: uniform area sampling; only the inside sees the (outward) front side: none.
+    return false;
+  }
+  // Uniform cone sampling of the visible cap, then the exact point on the sphere (pbrt-v4 Sphere::Sample).
+  float d = std::sqrt(d2);
+  float sin2_max = r * r / d2;
+  float sin_max = std::sqrt(sin2_max);
+  float cos_max = safe_sqrt(1.0f - sin2_max);
+  float one_minus_cos_max = 1.0f - cos_max;
+  float cos_theta = (cos_max - 1.0f) * u.x + 1.0f;
+  float sin2_theta = 1.0f - cos_theta * cos_theta;
+  if (sin2_max < 0.00068523f) {  // sin^2(1.5 deg): the direct formula loses precision for small cones
+    sin2_theta = sin2_max * u.x;
+    cos_theta = std::sqrt(1.0f - sin2_theta);
+    one_minus_cos_max = sin2_max / 2.0f;
+  }
+  float cos_alpha = sin2_theta / sin_max + cos_theta * safe_sqrt(1.0f - sin2_theta / sin2_max);
+  float sin_alpha = safe_sqrt(1.0f - cos_alpha * cos_alpha);
+  float phi = u.y * kTwoPi;
+  Frame frame = Frame::from_normal(to_center / d);
+  vec3 n = frame.to_world(vec3(-sin_alpha * std::cos(phi), -sin_alpha * std::sin(phi), -cos_alpha));
+  vec3 p = c + r * n;
+  vec3 dir = p - ref;
+  float dist = glm::length(dir);
+  if (!(dist > 0.0f)) return false;
+  out.point = {p, gamma_bound(5) * glm::abs(p), n};
+  out.wi = dir / dist;
+  out.dist = dist;
+  out.radiance = light.emission;
+  out.pdf = 1.0f / (kTwoPi * one_minus_cos_max);
+  return std::isfinite(out.pdf);
+}
+
+float sphere_pdf(const Light& light, vec3 ref) {
+  vec3 to_center = light.p0 - ref;
+  float d2 = glm::dot(to_center, to_center);
+  float r2 = light.radius * light.radius;
+  if (d2 <= r2 * (1.0f + 1e-4f)) return 0.0f;
+  float sin2_max = r2 / d2;
+  float one_minus_cos_max = sin2_max < 0.00068523f ? sin2_max / 2.0f : 1.0f - safe_sqrt(1.0f - sin2_max);
+  return 1.0f / (kTwoPi * one_minus_cos_max);
+}
+
+}  // namespace
+
+bool sample_light(const Light& light, vec3 ref, vec2 u, LightSampling mode, LightSample& out) {
+  switch (light.kind) {
+    case LightKind::rect: {
+      if (!(light.area > 0.0f) || glm::dot(ref - light.p0, light.n) <= 0.0f) return false;
+      SphericalRectangle sr;
+      if (mode == LightSampling::solid_angle && rect_solid_angle_usable(light, ref, sr)) {
+        vec3 p = sample_spherical_rectangle(sr, u);
+        vec3 err = gamma_bound(6) * (glm::abs(light.p0) + glm::abs(light.e1) + glm::abs(light.e2));
+        if (!finish_planar(light, ref, p, err, out)) return false;
+        out.pdf = 1.0f / sr.solid_angle;
+        return true;
+      }
+      vec3 p = light.p0 + u.x * light.e1 + u.y * light.e2;
+      vec3 err = gamma_bound(4) * (glm::abs(light.p0) + glm::abs(light.e1) + glm::abs(light.e2));
+      if (!finish_planar(light, ref, p, err, out)) return false;
+      out.pdf = area_to_solid_angle(1.0f / light.area, out.dist, glm::dot(out.wi, light.n));
+      return out.pdf > 0.0f;
+    }
+    case LightKind::triangle: {
+      if (!(light.area > 0.0f) || glm::dot(ref - light.p0, light.n) <= 0.0f) return false;
+      vec3 b = sample_uniform_triangle(u);
+      vec3 p = light.p0 + b.y * light.e1 + b.z * light.e2;
+      vec3 err = gamma_bound(4) * (glm::abs(light.p0) + glm::abs(light.e1) + glm::abs(light.e2));
+      if (!finish_planar(light, ref, p, err, out)) return false;
+      out.pdf = area_to_solid_angle(1.0f / light.area, out.dist, glm::dot(out.wi, light.n));
+      return out.pdf > 0.0f;
+    }
+    case LightKind::sphere:
+      return sample_sphere(light, ref, u, out);
+  }
+  return false;
+}
+
+float light_pdf(const Light& light, vec3 ref, vec3 wi, float dist, vec3 n_light, LightSampling mode) {
+  switch (light.kind) {
+    case LightKind::rect: {
+      if (!(light.area > 0.0f) || glm::dot(ref - light.p0, light.n) <= 0.0f) return 0.0f;
+      SphericalRectangle sr;
+      if (mode == LightSampling::solid_angle && rect_solid_angle_usable(light, ref, sr)) return 1.0f / sr.solid_angle;
+      return area_to_solid_angle(1.0f / light.area, dist, glm::dot(wi, n_light));
+    }
+    case LightKind::triangle:
+      if (!(light.area > 0.0f) || glm::dot(ref - light.p0, light.n) <= 0.0f) return 0.0f;
+      return area_to_solid_angle(1.0f / light.area, dist, glm::dot(wi, n_light));
+    case LightKind::sphere:
+      return sphere_pdf(light, ref);
+  }
+  return 0.0f;
+}
+
+void LightSet::finalize() {
+  std::vector<float> weights(lights.size());
+  for (size_t i = 0; i < lights.size(); ++i) weights[i] = light_power(lights[i]);
+  power = DiscreteDistribution(weights);
+}
+
+}  // namespace pt

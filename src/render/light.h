@@ -1,0 +1,61 @@
+#pragma once
+/// Area lights: the emissive shapes of a scene. A light is picked in proportion to its power, then a point on it is
+/// sampled; every pdf is returned in solid angle at the receiving point (the area-to-solid-angle conversion lives
+/// only in this module, pbrt-v4 section 4.2.3).
+#include <cstdint>
+#include <vector>
+
+#include "core/ray.h"
+#include "core/sampling.h"
+
+namespace pt {
+
+enum class LightSampling : int { area = 0, solid_angle = 1 };
+
+enum class LightKind : uint8_t { rect, triangle, sphere };
+
+/// One emitter. rect: corner p0, edges e1/e2 (parallelogram). triangle: p0, p0+e1, p0+e2. sphere: center p0,
+/// radius. `n` is the front normal for planar lights. Emission leaves the front (outward for spheres) only.
+struct Light {
+  LightKind kind = LightKind::rect;
+  vec3 p0{0.0f}, e1{0.0f}, e2{0.0f};
+  vec3 n{0.0f, 0.0f, 1.0f};
+  float radius = 0.0f;
+  float area = 0.0f;
+  bool rectangular = false;  ///< rect with orthogonal edges: solid-angle sampling applies
+  vec3 emission{0.0f};
+};
+
+/// A point sampled on a light, as seen from a receiving point.
+struct LightSample {
+  SurfacePoint point;   ///< on the light, with its rounding bound, for the shadow ray
+  vec3 wi{0.0f};        ///< unit direction from the receiver to the point
+  float dist = 0.0f;
+  vec3 radiance{0.0f};  ///< emitted radiance toward the receiver (0 from the back side)
+  float pdf = 0.0f;     ///< solid-angle density of this light's sampling at the receiver (light choice excluded)
+};
+
+Light make_rect_light(vec3 corner, vec3 edge1, vec3 edge2, vec3 emission);
+Light make_triangle_light(vec3 p0, vec3 p1, vec3 p2, vec3 emission);
+Light make_sphere_light(vec3 center, float radius, vec3 emission);
+
+/// Emitted power (luminance-weighted), the weight for picking a light.
+float light_power(const Light& light);
+
+/// Samples a point on `light` as seen from `ref`. Returns false when nothing can arrive (back side, degenerate).
+bool sample_light(const Light& light, vec3 ref, vec2 u, LightSampling mode, LightSample& out);
+
+/// The solid-angle pdf with which sample_light would produce the point `p_light` with normal `n_light`,
+/// reached from `ref` along unit direction `wi` at distance `dist`. Used for MIS when a BSDF ray hits a light.
+float light_pdf(const Light& light, vec3 ref, vec3 wi, float dist, vec3 n_light, LightSampling mode);
+
+/// All lights of a scene with the power distribution to choose among them.
+struct LightSet {
+  std::vector<Light> lights;
+  DiscreteDistribution power;
+
+  void finalize();  ///< builds `power` from the lights
+  bool empty() const { return lights.empty(); }
+};
+
+}  // namespace pt

@@ -1,0 +1,146 @@
+#include "render/render_scene.h"
+
+namespace pt {
+
+namespace {
+
+/// Recomputes everything that depends on materials: which primitives are lights, the light set, feature flags.
+void rebuild_lights(RenderScene& rs) {
+  const RenderGeometry& g = *rs.geo;
+  rs.lights.lights.clear();
+  rs.tri_light.assign(g.triangle_count(), -1);
+  rs.sphere_light.assign(g.spheres.size(), -1);
+  rs.features = {};
+  rs.features.has_background = !is_black(rs.background);
+  for (const Material& m : rs.materials) {
+    rs.features.has_glass |= m.type == MaterialType::glass;
+    rs.features.has_specular |= m.type == MaterialType::specular;
+  }
+  auto add = [&](const Light& l) -> int32_t {
+    if (!(light_power(l) > 0.0f)) return -1;  // never sampled; BSDF hits still see its emission
+    rs.lights.lights.push_back(l);
+    return int32_t(rs.lights.lights.size() - 1);
+  };
+  const uint32_t tri_count = g.triangle_count();
+  for (uint32_t t = 0; t < tri_count; ++t) {
+    const Material& m = rs.materials[g.tri_material[t]];
+    if (!m.emissive()) continue;
+    const vec3* v = &g.tri_vertices[3 * t];
+    if (t >= g.quad_first_triangle) {
+      // A quad's two triangles share one rectangle light; the first triangle's edges are the quad's edges.
+      if ((t - g.quad_first_triangle) % 2 == 1) continue;
+      int32_t id = add(make_rect_light(v[0], v[1] - v[0], v[2] - v[0], m.emission));
+      rs.tri_light[t] = rs.tri_light[t + 1] = id;
+      continue;
+    }
+    rs.tri_light[t] = add(make_triangle_light(v[0], v[1], v[2], m.emission));
+  }
+  for (size_t s = 0; s < g.spheres.size(); ++s) {
+    const Material& m = rs.materials[g.sphere_material[s]];
+    if (m.emissive()) rs.sphere_light[s] = add(make_sphere_light(g.spheres[s].center, g.spheres[s].radius, m.emission));
+  }
+  rs.lights.finalize();
+}
+
+}  // namespace
+
+std::shared_ptr<const RenderGeometry> make_render_geometry(const Scene& scene, const BvhBuildOptions& options) {
+  auto geo = std::make_shared<RenderGeometry>();
+  RenderGeometry& g = *geo;
+  const uint32_t material_count = uint32_t(std::max<size_t>(1, scene.materials.size()));
+  auto clamp_material = [&](uint32_t m) { return m < material_count ? m : 0u; };
+  size_t tri_total = scene.triangle_count();
+  g.tri_vertices.reserve(3 * tri_total);
+  g.tri_normals.reserve(3 * tri_total);
+  g.tri_material.reserve(tri_total);
+  for (const Mesh& mesh : scene.meshes) {
+    bool has_normals = !mesh.normal_indices.empty() && mesh.normal_indices.size() == mesh.indices.size();
+    for (size_t t = 0; t < mesh.indices.size(); ++t) {
+      uvec3 idx = mesh.indices[t];
+      for (int k = 0; k < 3; ++k) g.tri_vertices.push_back(mesh.positions[idx[k]]);
+      for (int k = 0; k < 3; ++k) {
+        vec3 n(0.0f);
+        if (has_normals) {
+          n = mesh.normals[mesh.normal_indices[t][k]];
+          float len = glm::length(n);
+          n = (len > 0.0f && std::isfinite(len)) ? n / len : vec3(0.0f);
+        }
+        g.tri_normals.push_back(n);
+      }
+      g.tri_material.push_back(clamp_material(t < mesh.materials.size() ? mesh.materials[t] : 0u));
+    }
+  }
+  g.quad_first_triangle = uint32_t(g.tri_material.size());
+  for (const Quad& q : scene.quads) {
+    // Triangles (c, c+e1, c+e2) and (c+e1+e2, c+e2, c+e1): the winding of cross(e1, e2).
+    vec3 c = q.corner, a = q.corner + q.edge1, b = q.corner + q.edge2, d = q.corner + q.edge1 + q.edge2;
+    for (vec3 p : {c, a, b, d, b, a}) g.tri_vertices.push_back(p);
+    for (int k = 0; k < 6; ++k) g.tri_normals.push_back(vec3(0.0f));
+    g.tri_material.push_back(clamp_material(q.material));
+    g.tri_material.push_back(clamp_material(q.material));
+  }
+  for (const Sphere& s : scene.spheres) {
+    g.spheres.push_back({s.center, s.radius});
+    g.sphere_material.push_back(clamp_material(s.material));
+  }
+  for (uint32_t t = 0; t < g.triangle_count(); ++t) {
+    const vec3* v = &g.tri_vertices[3 * t];
+    vec3 c = glm::cross(v[1] - v[0], v[2] - v[0]);
+    if (!(glm::dot(c, c) > 0.0f)) ++g.degenerate_triangles;
+  }
+  g.trace = make_trace_geometry(g.tri_vertices, g.spheres, options);
+  return geo;
+}
+
+RenderScene make_render_scene(const Scene& scene, std::shared_ptr<const RenderGeometry> geo) {
+  RenderScene rs;
+  rs.geo = std::move(geo);
+  rs.materials = scene.materials;
+  if (rs.materials.empty()) rs.materials.push_back(Material{"default"});
+  rs.background = scene.background.value_or(vec3(0.0f));
+  rs.camera = scene.camera.value_or(Camera{});
+  rebuild_lights(rs);
+  return rs;
+}
+
+RenderScene make_render_scene(const Scene& scene, const BvhBuildOptions& bvh_options) {
+  return make_render_scene(scene, make_render_geometry(scene, bvh_options));
+}
+
+SurfaceHit make_surface_hit(const RenderScene& rs, const Ray& ray, const Hit& hit) {
+  const RenderGeometry& g = *rs.geo;
+  SurfaceHit sh;
+  if (hit.prim < g.triangle_count()) {
+    const uint32_t t = hit.prim;
+    const vec3* v = &g.tri_vertices[3 * t];
+    float b0 = 1.0f - hit.b1 - hit.b2;
+    vec3 p = b0 * v[0] + hit.b1 * v[1] + hit.b2 * v[2];
+    vec3 err = gamma_bound(7) * (glm::abs(b0 * v[0]) + glm::abs(hit.b1 * v[1]) + glm::abs(hit.b2 * v[2]));
+    vec3 ng = glm::cross(v[1] - v[0], v[2] - v[0]);
+    float len = glm::length(ng);
+    ng = len > 0.0f ? ng / len : -ray.dir;
+    sh.sp = {p, err, ng};
+    const vec3* n = &g.tri_normals[3 * t];
+    vec3 ns = b0 * n[0] + hit.b1 * n[1] + hit.b2 * n[2];
+    float ns_len = glm::length(ns);
+    sh.ns = (ns_len > 1e-6f && std::isfinite(ns_len)) ? ns / ns_len : ng;
+    if (glm::dot(sh.ns, ng) < 0.0f) sh.ns = -sh.ns;
+    sh.material = g.tri_material[t];
+    sh.light = rs.tri_light[t];
+  } else {
+    const uint32_t s = hit.prim - g.triangle_count();
+    const TraceSphere& sphere = g.spheres[s];
+    vec3 p = ray.org + hit.t * ray.dir;
+    vec3 d = p - sphere.center;
+    float len = glm::length(d);
+    vec3 ng = len > 0.0f ? d / len : -ray.dir;
+    p = sphere.center + sphere.radius * ng;  // reproject onto the surface (pbrt-v4 section 6.8.5)
+    sh.sp = {p, gamma_bound(5) * glm::abs(p), ng};
+    sh.ns = ng;
+    sh.material = g.sphere_material[s];
+    sh.light = rs.sphere_light[s];
+  }
+  return sh;
+}
+
+}  // namespace pt

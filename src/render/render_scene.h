@@ -1,0 +1,73 @@
+#pragma once
+/// What the integrator traces: the scene flattened into triangles and spheres behind one BVH, per-primitive
+/// material and light ids, the light set, and feature flags that let the hot loop skip what a scene lacks.
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "accel/geometry.h"
+#include "render/light.h"
+#include "scene/scene.h"
+
+namespace pt {
+
+/// The surface at a ray hit, in world space.
+struct SurfaceHit {
+  SurfacePoint sp;       ///< position with error bound and geometric normal (front = CCW / outward)
+  vec3 ns{0, 0, 1};      ///< shading normal, on the same side as sp.ng
+  uint32_t material = 0;
+  int32_t light = -1;    ///< index into lights, or -1
+};
+
+/// Scene features the integrator specializes on.
+struct SceneFeatures {
+  bool has_glass = false;
+  bool has_specular = false;
+  bool has_background = false;
+};
+
+/// The immutable, heavy part of a render scene: flattened primitives and the BVH. Shared (not copied) between
+/// versions of a scene that differ only in materials, lights' emission, camera or background.
+struct RenderGeometry {
+  // Triangles: meshes first (in order), then two per quad. Vertex triples, per-corner shading normals (zero when
+  // the triangle has none), material per triangle.
+  std::vector<vec3> tri_vertices;
+  std::vector<vec3> tri_normals;
+  std::vector<uint32_t> tri_material;
+  uint32_t quad_first_triangle = 0;  ///< triangles from here on come in pairs, one pair per scene quad
+  std::vector<TraceSphere> spheres;
+  std::vector<uint32_t> sphere_material;
+  TraceGeometry trace;
+  size_t degenerate_triangles = 0;
+
+  uint32_t triangle_count() const { return uint32_t(tri_material.size()); }
+};
+
+/// Flattens the shapes of `scene` and builds the BVH.
+std::shared_ptr<const RenderGeometry> make_render_geometry(const Scene& scene, const BvhBuildOptions& options = {});
+
+struct RenderScene {
+  std::shared_ptr<const RenderGeometry> geo;
+  std::vector<Material> materials;
+  std::vector<int32_t> tri_light;     ///< per triangle: index into lights, or -1
+  std::vector<int32_t> sphere_light;  ///< per sphere
+  LightSet lights;
+  vec3 background{0.0f};
+  SceneFeatures features;
+  Camera camera;
+
+  const TraceGeometry& trace() const { return geo->trace; }
+  uint32_t triangle_count() const { return geo->triangle_count(); }
+};
+
+/// Flattens `scene` and builds the BVH. The scene should be finalized (it has a camera).
+RenderScene make_render_scene(const Scene& scene, const BvhBuildOptions& bvh_options = {});
+
+/// A render scene over existing geometry with the materials, background and camera of `scene` (whose shapes
+/// must be those `geo` was built from): a material or camera edit costs no BVH rebuild.
+RenderScene make_render_scene(const Scene& scene, std::shared_ptr<const RenderGeometry> geo);
+
+/// Surface details of a hit: position reconstructed from barycentrics (pbrt-v4 section 6.8.5 error bounds).
+SurfaceHit make_surface_hit(const RenderScene& rs, const Ray& ray, const Hit& hit);
+
+}  // namespace pt

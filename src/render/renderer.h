@@ -1,0 +1,36 @@
+#pragma once
+/// Progressive rendering: one frame adds `spp_per_frame` samples to every pixel of a Film, split into tiles over a
+/// WorkerPool. Each pixel sample draws its random numbers from (seed, pixel, sample index) alone, so the image is
+/// bit-identical for any thread count. Used by the headless path and the viewer alike.
+#include <atomic>
+#include <memory>
+
+#include "render/camera.h"
+#include "render/film.h"
+#include "render/integrator.h"
+#include "render/worker_pool.h"
+
+namespace pt {
+
+inline constexpr int kTileSize = 16;
+
+class Renderer {
+ public:
+  explicit Renderer(int threads = 0) : pool_(std::make_unique<WorkerPool>(threads)) {}
+  int thread_count() const { return pool_->thread_count(); }
+
+  /// Adds one frame of samples (frame index `frame` fixes the sample indices) to `film`, which must be sized
+  /// params.width x params.height. If `cancel` is given and becomes true, stops at the next tile and returns
+  /// false (the film then holds a partial frame and should be cleared).
+  bool render_frame(const RenderScene& scene, const RenderParams& params, Film& film, uint32_t frame,
+                    RenderCounters& counters, const std::atomic<bool>* cancel = nullptr);
+
+ private:
+  std::unique_ptr<WorkerPool> pool_;
+};
+
+/// Renders one sample batch of a single pixel; exposed for tests.
+void render_pixel(const RenderScene& scene, const RenderParams& params, const CameraRig& rig, int x, int y,
+                  uint32_t first_sample, Film& film, RenderCounters& counters);
+
+}  // namespace pt

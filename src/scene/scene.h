@@ -1,0 +1,82 @@
+#pragma once
+/// The scene as described by a file: plain structs, integer indices, no behaviour. The render layer turns this into
+/// what it traces (BVH, light list); the viewer edits it and asks for a rebuild of only what changed.
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/aabb.h"
+#include "core/math.h"
+
+namespace pt {
+
+enum class MaterialType : uint8_t { diffuse, specular, glass };
+
+/// A surface material. Every surface scatters on both sides; emission leaves the front side only.
+struct Material {
+  std::string name;
+  MaterialType type = MaterialType::diffuse;
+  vec3 albedo{0.8f};    ///< diffuse reflectance, or mirror tint for specular
+  float ior = 1.5f;     ///< glass only: index of refraction inside / outside
+  vec3 emission{0.0f};  ///< emitted radiance (W / m^2 / sr), front side only
+  bool emissive() const { return emission.x > 0.0f || emission.y > 0.0f || emission.z > 0.0f; }
+};
+
+/// Pinhole camera; the exact ray model is in render/camera.h (and README).
+struct Camera {
+  vec3 eye{0.0f, 0.0f, 5.0f};
+  vec3 target{0.0f};
+  vec3 up{0.0f, 1.0f, 0.0f};
+  float fov_deg = 40.0f;  ///< vertical field of view
+};
+
+struct Sphere {
+  vec3 center{0.0f};
+  float radius = 1.0f;
+  uint32_t material = 0;
+};
+
+/// A parallelogram {corner + a edge1 + b edge2 : a, b in [0,1]}; front normal = normalize(cross(edge1, edge2)).
+/// An emissive quad is a rectangle light.
+struct Quad {
+  vec3 corner{0.0f};
+  vec3 edge1{1.0f, 0.0f, 0.0f};
+  vec3 edge2{0.0f, 1.0f, 0.0f};
+  uint32_t material = 0;
+};
+
+/// A triangle mesh in world space. Front side: counter-clockwise winding.
+struct Mesh {
+  std::string name;                    ///< file or object name, for messages and the viewer
+  std::vector<vec3> positions;
+  std::vector<uvec3> indices;          ///< one per triangle, into positions
+  std::vector<vec3> normals;           ///< optional shading normals
+  std::vector<uvec3> normal_indices;   ///< empty, or one per triangle into normals
+  std::vector<uint32_t> materials;     ///< one per triangle, into Scene::materials
+};
+
+struct Scene {
+  std::string source;                  ///< the file it came from, or "builtin:NAME"
+  std::optional<Camera> camera;        ///< absent: frame the bounds (see finalize_scene)
+  std::optional<vec3> background;      ///< constant radiance of escaping rays; absent means black
+  std::vector<Material> materials;
+  std::vector<Mesh> meshes;
+  std::vector<Sphere> spheres;
+  std::vector<Quad> quads;
+  std::vector<std::string> warnings;   ///< recoverable oddities met while loading
+
+  size_t triangle_count() const {
+    size_t n = 2 * quads.size();
+    for (const Mesh& m : meshes) n += m.indices.size();
+    return n;
+  }
+  AABB bounds() const;
+  bool has_emitter() const;
+};
+
+/// Gives a scene what it needs to render and did not say: a camera framing its bounds when it has none, and a
+/// rectangle light above its bounds (with a warning) when it has no emitter and no background.
+void finalize_scene(Scene& scene);
+
+}  // namespace pt

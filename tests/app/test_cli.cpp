@@ -1,0 +1,175 @@
+// The command-line contract, checked on the real executable: exit codes, one-line errors, outputs, determinism.
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "render/image.h"
+#include "run_exe.h"
+
+namespace pt {
+namespace {
+
+using test::count_lines;
+using test::read_file;
+using test::run_ptview;
+using test::TempDir;
+
+TEST(Cli, RendersTheBuiltInSceneToPng) {
+  TempDir dir;
+  auto r = run_ptview({"--frames", "2", "--size", "64x48", "--out", dir / "x.png"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::string png = read_file(dir / "x.png");
+  ASSERT_GT(png.size(), 8u);
+  EXPECT_EQ(png.substr(1, 3), "PNG");
+  EXPECT_TRUE(r.err.empty()) << r.err;  // quiet when stderr is not a terminal
+}
+
+TEST(Cli, PfmIsTheLinearMeanWithTheRightLayout) {
+  TempDir dir;
+  auto r = run_ptview({"--frames", "1", "--size", "33x17", "--out", dir / "x.pfm", "--exposure", "3"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::string pfm = read_file(dir / "x.pfm");
+  ASSERT_EQ(pfm.rfind("PF\n33 17\n-1.0\n", 0), 0u);
+  EXPECT_EQ(pfm.size(), std::string("PF\n33 17\n-1.0\n").size() + 33 * 17 * 12);
+  Result<Image> img = load_image(dir / "x.pfm");
+  ASSERT_TRUE(img.ok()) << img.error();
+  // The default scene's light is in the top middle of the frame: bright there; the image must not be flipped.
+  float top = 0, bottom = 0;
+  for (int x = 0; x < 33; ++x) {
+    top += luminance(img->at(x, 0));
+    bottom += luminance(img->at(x, 16));
+  }
+  EXPECT_GT(top, 0.0f);
+  EXPECT_GT(bottom, 0.0f);
+}
+
+TEST(Cli, ThreadCountGivesIdenticalBytes) {
+  TempDir dir;
+  for (const char* threads : {"1", "2", "3"}) {
+    auto r = run_ptview({"--frames", "2", "--spp-per-frame", "2", "--size", "48x40", "--threads", threads, "--out",
+                         dir / (std::string("t") + threads + ".pfm")});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+  }
+  std::string one = read_file(dir / "t1.pfm");
+  EXPECT_EQ(one, read_file(dir / "t2.pfm"));
+  EXPECT_EQ(one, read_file(dir / "t3.pfm"));
+}
+
+TEST(Cli, ExrOutputRoundTrips) {
+  TempDir dir;
+  ASSERT_EQ(run_ptview({"--frames", "1", "--size", "20x10", "--out", dir / "a.exr"}).exit_code, 0);
+  ASSERT_EQ(run_ptview({"--frames", "1", "--size", "20x10", "--out", dir / "a.pfm"}).exit_code, 0);
+  Result<Image> exr = load_image(dir / "a.exr");
+  Result<Image> pfm = load_image(dir / "a.pfm");
+  ASSERT_TRUE(exr.ok() && pfm.ok());
+  EXPECT_EQ(exr->rgb, pfm->rgb);
+}
+
+TEST(Cli, StatsJsonHasTheContractKeys) {
+  TempDir dir;
+  auto r = run_ptview({"--frames", "3", "--size", "32x32", "--out", dir / "x.png", "--stats-json", dir / "s.json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  auto j = nlohmann::json::parse(read_file(dir / "s.json"));
+  for (const char* key : {"spp", "seconds", "rays", "mrays_per_s", "nonfinite_samples", "bvh", "skipped"})
+    EXPECT_TRUE(j.contains(key)) << key;
+  for (const char* key : {"build_ms", "nodes", "sah_cost"}) EXPECT_TRUE(j["bvh"].contains(key)) << key;
+  EXPECT_EQ(j["spp"], 3);
+  EXPECT_GT(j["rays"].get<double>(), 32.0 * 32 * 3);
+  EXPECT_GT(j["bvh"]["nodes"].get<int>(), 0);
+  EXPECT_TRUE(j["skipped"].is_object());
+  EXPECT_GT(j["skipped"]["light_sampling_specular"].get<double>(), 0);  // glass and mirror spheres
+}
+
+TEST(Cli, ErrorCsvAgainstAReference) {
+  TempDir dir;
+  ASSERT_EQ(run_ptview({"--frames", "8", "--size", "24x24", "--seed", "5", "--out", dir / "ref.pfm"}).exit_code, 0);
+  auto r = run_ptview({"--frames", "4", "--size", "24x24", "--out", dir / "x.pfm", "--reference", dir / "ref.pfm",
+                       "--error-csv", dir / "e.csv"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::string csv = read_file(dir / "e.csv");
+  EXPECT_EQ(csv.rfind("frame,spp,seconds,rmse,rel_mse\n", 0), 0u);
+  EXPECT_EQ(count_lines(csv), 5);
+  // Against itself the error is zero.
+  r = run_ptview({"--frames", "8", "--size", "24x24", "--seed", "5", "--out", dir / "y.pfm", "--reference",
+                  dir / "ref.pfm", "--error-csv", dir / "self.csv"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::string self = read_file(dir / "self.csv");
+  std::string last = self.substr(self.rfind('\n', self.size() - 2) + 1);
+  EXPECT_EQ(last.rfind("8,8,", 0), 0u) << last;
+  EXPECT_NE(last.find(",0,0"), std::string::npos) << last;
+}
+
+TEST(Cli, TimeLimitStopsTheRun) {
+  TempDir dir;
+  auto r = run_ptview({"--frames", "1000000", "--size", "64x64", "--time-limit", "0.5", "--out", dir / "x.png",
+                       "--stats-json", dir / "s.json"}, 60);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  auto j = nlohmann::json::parse(read_file(dir / "s.json"));
+  EXPECT_LT(j["spp"].get<int>(), 1000000);
+  EXPECT_GE(j["spp"].get<int>(), 1);
+}
+
+TEST(Cli, HelpExitsZero) {
+  auto r = run_ptview({"--help"});
+  EXPECT_EQ(r.exit_code, 0);
+  EXPECT_NE(r.out.find("--frames"), std::string::npos);
+}
+
+struct BadArgs {
+  std::vector<std::string> args;
+  std::string mentions;
+};
+
+TEST(Cli, BadOptionsExitTwoWithOneLine) {
+  TempDir dir;
+  const std::string out = dir / "x.png";
+  const BadArgs cases[] = {
+      {{"--frames", "0", "--out", out}, "--frames"},
+      {{"--frames", "-3", "--out", out}, "--frames"},
+      {{"--frames", "abc", "--out", out}, "--frames"},
+      {{"--frames", "1", "--size", "0x0", "--out", out}, "--size"},
+      {{"--frames", "1", "--size", "512", "--out", out}, "--size"},
+      {{"--frames", "1", "--size", "10x-4", "--out", out}, "--size"},
+      {{"--frames", "1", "--size", "99999x10", "--out", out}, "--size"},
+      {{"--frames", "1", "--spp-per-frame", "0", "--out", out}, "--spp-per-frame"},
+      {{"--frames", "1", "--seed", "-1", "--out", out}, "--seed"},
+      {{"--frames", "1", "--threads", "-2", "--out", out}, "--threads"},
+      {{"--frames", "1", "--max-depth", "-1", "--out", out}, "--max-depth"},
+      {{"--frames", "1", "--integrator", "foo", "--out", out}, "--integrator"},
+      {{"--frames", "1", "--light-sampling", "cone", "--out", out}, "--light-sampling"},
+      {{"--frames", "1", "--out", dir / "x.jpg"}, "--out"},
+      {{"--frames", "1", "--out", dir / "missing-dir/x.png"}, "missing-dir"},
+      {{"--frames", "1", "--time-limit", "0", "--out", out}, "--time-limit"},
+      {{"--frames", "1", "--error-csv", dir / "e.csv", "--out", out}, "--reference"},
+      {{"--frames", "1", "--reference", dir / "nope.pfm", "--error-csv", dir / "e.csv", "--out", out}, "nope.pfm"},
+      {{"--frames", "1", "--bogus-option", "--out", out}, "--bogus-option"},
+      {{"a.json", "b.json", "--frames", "1", "--out", out}, "b.json"},
+      {{"/nonexistent/scene.obj", "--frames", "1", "--out", out}, "/nonexistent/scene.obj"},
+      {{"/nonexistent/scene.json", "--frames", "1", "--out", out}, "/nonexistent/scene.json"},
+      {{dir / "scene.txt", "--frames", "1", "--out", out}, "scene.txt"},
+  };
+  for (const BadArgs& c : cases) {
+    auto r = run_ptview(c.args, 60);
+    std::string joined;
+    for (auto& a : c.args) joined += a + " ";
+    EXPECT_EQ(r.exit_code, 2) << joined << "\n" << r.err;
+    EXPECT_EQ(count_lines(r.err), 1) << joined << "\n" << r.err;
+    EXPECT_NE(r.err.find(c.mentions), std::string::npos) << joined << "\n" << r.err;
+    EXPECT_FALSE(std::filesystem::exists(out)) << joined;
+  }
+  // Nothing half-written was left behind.
+  for (auto& entry : std::filesystem::directory_iterator(dir.path))
+    ADD_FAILURE() << "left behind: " << entry.path();
+}
+
+TEST(Cli, ReferenceOfTheWrongSizeIsRejected) {
+  TempDir dir;
+  ASSERT_EQ(run_ptview({"--frames", "1", "--size", "8x8", "--out", dir / "ref.pfm"}).exit_code, 0);
+  auto r = run_ptview({"--frames", "1", "--size", "16x8", "--out", dir / "x.pfm", "--reference", dir / "ref.pfm",
+                       "--error-csv", dir / "e.csv"});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("ref.pfm"), std::string::npos);
+  EXPECT_FALSE(std::filesystem::exists(dir / "x.pfm"));
+}
+
+}  // namespace
+}  // namespace pt

@@ -1,0 +1,149 @@
+// Fresnel, Snell and the energy of each BSDF.
+#include <gtest/gtest.h>
+
+#include "core/rng.h"
+#include "render/bsdf.h"
+
+namespace pt {
+namespace {
+
+/// Independent double-precision Fresnel for unpolarized light (Born and Wolf): n1 -> n2 at incidence theta_i.
+double fresnel_reference(double theta_i, double n1, double n2) {
+  double sin_t = n1 / n2 * std::sin(theta_i);
+  if (sin_t >= 1.0) return 1.0;
+  double ci = std::cos(theta_i), ct = std::sqrt(1.0 - sin_t * sin_t);
+  double rs = (n1 * ci - n2 * ct) / (n1 * ci + n2 * ct);
+  double rp = (n2 * ci - n1 * ct) / (n2 * ci + n1 * ct);
+  return 0.5 * (rs * rs + rp * rp);
+}
+
+TEST(Fresnel, MatchesTabulatedValues) {
+  EXPECT_NEAR(fresnel_dielectric(1.0f, 1.5f), 0.04f, 1e-6f);          // ((n-1)/(n+1))^2
+  EXPECT_NEAR(fresnel_dielectric(1.0f, 1.333f), 0.02037f, 1e-4f);     // water
+  EXPECT_NEAR(fresnel_dielectric(0.0f, 1.5f), 1.0f, 1e-6f);           // grazing
+  // Brewster's angle: the parallel component vanishes, R = Rs / 2.
+  double brewster = std::atan(1.5);
+  double rs = std::pow(std::cos(brewster) - 1.5 * std::cos(M_PI / 2 - brewster), 2) /
+              std::pow(std::cos(brewster) + 1.5 * std::cos(M_PI / 2 - brewster), 2);
+  EXPECT_NEAR(fresnel_dielectric(float(std::cos(brewster)), 1.5f), 0.5 * rs, 1e-5);
+  for (int i = 0; i <= 90; ++i) {
+    double th = i * M_PI / 180.0 * 0.999;
+    EXPECT_NEAR(fresnel_dielectric(float(std::cos(th)), 1.5f), fresnel_reference(th, 1.0, 1.5), 2e-5) << i;
+    EXPECT_NEAR(fresnel_dielectric(float(std::cos(th)), 1.0f / 1.5f), fresnel_reference(th, 1.5, 1.0), 2e-5) << i;
+  }
+}
+
+TEST(Fresnel, TotalInternalReflectionBeyondTheCriticalAngle) {
+  double critical = std::asin(1.0 / 1.5);
+  EXPECT_EQ(fresnel_dielectric(float(std::cos(critical + 0.01)), 1.0f / 1.5f), 1.0f);
+  EXPECT_LT(fresnel_dielectric(float(std::cos(critical - 0.01)), 1.0f / 1.5f), 1.0f);
+  vec3 wt;
+  vec3 n(0, 0, 1);
+  vec3 wo(std::sin(critical + 0.01), 0, std::cos(critical + 0.01));
+  EXPECT_FALSE(refract_dir(glm::normalize(wo), n, 1.0f / 1.5f, wt));
+}
+
+TEST(Snell, RefractedDirectionObeysSnellsLaw) {
+  Pcg32 rng(1, 2);
+  for (int i = 0; i < 1000; ++i) {
+    float ct = rng.next_float() * 0.999f + 0.001f, phi = rng.next_float() * kTwoPi;
+    float st = std::sqrt(1 - ct * ct);
+    vec3 wo(st * std::cos(phi), st * std::sin(phi), ct);
+    vec3 n(0, 0, 1);
+    float eta = 1.5f;
+    vec3 wt;
+    ASSERT_TRUE(refract_dir(wo, n, eta, wt));
+    EXPECT_NEAR(glm::length(wt), 1.0f, 1e-5f);
+    EXPECT_LT(wt.z, 0.0f);
+    float sin_t = std::sqrt(wt.x * wt.x + wt.y * wt.y);
+    EXPECT_NEAR(st, eta * sin_t, 1e-5f);
+    // Coplanar with wo and n, on the opposite side.
+    EXPECT_NEAR(glm::dot(glm::cross(wo, n), wt), 0.0f, 1e-5f);
+    EXPECT_LE(wt.x * wo.x + wt.y * wo.y, 0.0f);
+  }
+}
+
+TEST(Glass, ReflectionPlusTransmissionConservesEnergy) {
+  // The expected path weight, with the 1/eta^2 radiance scaling undone, is R + T = 1 at every angle.
+  Material glass;
+  glass.type = MaterialType::glass;
+  glass.ior = 1.5f;
+  Pcg32 rng(5, 6);
+  for (bool entering : {true, false}) {
+    for (float ct : {1.0f, 0.7f, 0.3f, 0.05f}) {
+      ShadingContext sc;
+      sc.wo = glm::normalize(vec3(std::sqrt(1 - ct * ct), 0, ct));
+      sc.n = sc.ng = vec3(0, 0, 1);
+      sc.entering = entering;
+      double sum = 0.0, reflected = 0.0;
+      const int n = 20000;
+      for (int i = 0; i < n; ++i) {
+        BsdfSample bs;
+        ASSERT_TRUE(sample_bsdf(glass, sc, rng.next_float(), vec2(rng.next_float(), rng.next_float()), bs));
+        EXPECT_TRUE(bs.delta);
+        sum += bs.weight.x / bs.eta_scale;
+        if (bs.wi.z > 0) reflected += 1.0;
+      }
+      EXPECT_NEAR(sum / n, 1.0, 1e-5);
+      float eta = entering ? 1.5f : 1.0f / 1.5f;
+      EXPECT_NEAR(reflected / n, fresnel_dielectric(ct, eta), 0.01) << entering << " " << ct;
+    }
+  }
+}
+
+TEST(Diffuse, SampledWeightIsAlbedoAndPdfMatchesEval) {
+  Material m;
+  m.albedo = vec3(0.25f, 0.5f, 0.75f);
+  ShadingContext sc;
+  sc.wo = glm::normalize(vec3(0.3f, 0.2f, 0.9f));
+  sc.n = sc.ng = glm::normalize(vec3(0.1f, -0.2f, 1.0f));
+  Pcg32 rng(9, 9);
+  for (int i = 0; i < 1000; ++i) {
+    BsdfSample bs;
+    if (!sample_bsdf(m, sc, 0.5f, vec2(rng.next_float(), rng.next_float()), bs)) continue;
+    vec3 f = eval_bsdf_cos(m, sc, bs.wi);
+    float pdf = bsdf_pdf(m, sc, bs.wi);
+    EXPECT_NEAR(pdf, bs.pdf, 1e-4f * pdf);
+    EXPECT_NEAR(f.x / pdf, bs.weight.x, 1e-4f);
+    EXPECT_NEAR(f.z / pdf, bs.weight.z, 1e-4f);
+  }
+  // Nothing below the geometric surface.
+  EXPECT_EQ(eval_bsdf_cos(m, sc, -sc.n), vec3(0.0f));
+  EXPECT_EQ(bsdf_pdf(m, sc, -sc.n), 0.0f);
+}
+
+TEST(Mirror, ReflectsAboutTheNormalWithItsAlbedo) {
+  Material m;
+  m.type = MaterialType::specular;
+  m.albedo = vec3(0.9f);
+  ShadingContext sc;
+  sc.n = sc.ng = vec3(0, 0, -1);  // the n = -z case a rotation from +z gets wrong
+  sc.wo = glm::normalize(vec3(0.3f, 0.4f, -0.8f));
+  BsdfSample bs;
+  ASSERT_TRUE(sample_bsdf(m, sc, 0.3f, vec2(0.5f), bs));
+  EXPECT_NEAR(bs.wi.x, -sc.wo.x, 1e-6f);
+  EXPECT_NEAR(bs.wi.y, -sc.wo.y, 1e-6f);
+  EXPECT_NEAR(bs.wi.z, sc.wo.z, 1e-6f);
+  EXPECT_EQ(bs.weight, vec3(0.9f));
+}
+
+TEST(Diffuse, CosineSamplingAroundMinusZIsCorrect) {
+  // The assignment's shading frame broke at n = -z; ours must sample the hemisphere around it.
+  Material m;
+  ShadingContext sc;
+  sc.n = sc.ng = vec3(0, 0, -1);
+  sc.wo = vec3(0, 0, -1);
+  Pcg32 rng(1, 1);
+  double mean_cos = 0.0;
+  const int n = 20000;
+  for (int i = 0; i < n; ++i) {
+    BsdfSample bs;
+    ASSERT_TRUE(sample_bsdf(m, sc, 0.5f, vec2(rng.next_float(), rng.next_float()), bs));
+    ASSERT_LT(bs.wi.z, 0.0f);
+    mean_cos += -bs.wi.z;
+  }
+  EXPECT_NEAR(mean_cos / n, 2.0 / 3.0, 0.01);  // E[cos] under cos-weighted sampling = 2/3
+}
+
+}  // namespace
+}  // namespace pt

@@ -1,0 +1,317 @@
+// The integrator against closed-form answers: furnaces, polygon-light irradiance, sphere-light irradiance, and
+// agreement of all three strategies. Each test would fail on a biased or wrong estimator.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "render/renderer.h"
+#include "scene_builders.h"
+
+namespace pt {
+namespace {
+
+using test::add_box;
+using test::add_material;
+using test::diffuse;
+
+struct Estimate {
+  double mean = 0.0;
+  double stderr_ = 0.0;
+};
+
+/// Mean luminance-free estimate (channel x) of radiance along `ray`, over n independent samples.
+Estimate estimate(const RenderScene& rs, const RenderParams& params, const Ray& ray, int n, uint64_t seed,
+                  RenderCounters* counters_out = nullptr) {
+  RenderCounters counters;
+  double sum = 0.0, sum2 = 0.0;
+  for (int i = 0; i < n; ++i) {
+    PixelSampler sampler = PixelSampler::start(seed, 12345, uint64_t(i));
+    vec3 L = trace_path(rs, params, ray, sampler, counters);
+    sum += L.x;
+    sum2 += double(L.x) * L.x;
+  }
+  if (counters_out) *counters_out = counters;
+  Estimate e;
+  e.mean = sum / n;
+  double var = std::max(0.0, sum2 / n - e.mean * e.mean);
+  e.stderr_ = std::sqrt(var / n);
+  return e;
+}
+
+const IntegratorKind kIntegrators[] = {IntegratorKind::mis, IntegratorKind::nee, IntegratorKind::bsdf};
+const LightSampling kModes[] = {LightSampling::area, LightSampling::solid_angle};
+
+std::string config_name(IntegratorKind k, LightSampling m) {
+  const char* names[] = {"mis", "nee", "bsdf"};
+  return std::string(names[int(k)]) + (m == LightSampling::area ? "/area" : "/solid-angle");
+}
+
+/// Irradiance at x (normal n) from a uniformly emitting planar polygon with radiance L (Lambert 1760; see Arvo
+/// 1995, "Applications of irradiance tensors"): E = L/2 sum_i angle(v_i, v_i+1) * dot(n, unit(v_i x v_i+1)).
+double polygon_irradiance(const std::vector<dvec3>& poly, dvec3 x, dvec3 n, double L) {
+  double sum = 0.0;
+  for (size_t i = 0; i < poly.size(); ++i) {
+    dvec3 a = glm::normalize(poly[i] - x), b = glm::normalize(poly[(i + 1) % poly.size()] - x);
+    dvec3 c = glm::cross(a, b);
+    double len = glm::length(c);
+    if (len == 0.0) continue;
+    sum += std::acos(std::clamp(glm::dot(a, b), -1.0, 1.0)) * glm::dot(n, c / len);
+  }
+  return std::abs(0.5 * L * sum);
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+
+TEST(Furnace, WhiteObjectsInUniformBackgroundAreInvisible) {
+  // Albedo-1 diffuse, mirror and glass objects under a uniform background of radiance 1: every path carries
+  // exactly 1 (glass scales by 1/eta^2 entering and eta^2 leaving), so every pixel is 1.
+  Scene s;
+  s.background = vec3(1.0f);
+  uint32_t white = add_material(s, diffuse(vec3(1.0f)));
+  Material mirror;
+  mirror.type = MaterialType::specular;
+  mirror.albedo = vec3(1.0f);
+  uint32_t m = add_material(s, mirror);
+  Material glass;
+  glass.type = MaterialType::glass;
+  glass.ior = 1.5f;
+  uint32_t g = add_material(s, glass);
+  s.spheres.push_back({vec3(-1.1f, 0, 0), 0.5f, white});
+  s.spheres.push_back({vec3(0, 0, 0), 0.5f, m});
+  s.spheres.push_back({vec3(1.1f, 0, 0), 0.5f, g});
+  add_box(s, vec3(-0.4f, -1.4f, -0.4f), vec3(0.4f, -0.6f, 0.4f), white, false);  // a closed white cube
+  add_box(s, vec3(0.7f, -1.4f, -0.4f), vec3(1.5f, -0.6f, 0.4f), g, false);      // a closed glass cube
+  s.camera = Camera{vec3(0, 0, 5), vec3(0, -0.3f, 0), vec3(0, 1, 0), 45.0f};
+  RenderScene rs = make_render_scene(s);
+  for (IntegratorKind k : kIntegrators) {
+    RenderParams params;
+    params.width = params.height = 24;
+    params.spp_per_frame = 8;
+    params.integrator = k;
+    params.max_depth = 1000;
+    Film film(params.width, params.height);
+    Renderer renderer(2);
+    RenderCounters counters;
+    renderer.render_frame(rs, params, film, 0, counters);
+    double max_dev = 0.0;
+    for (size_t p = 0; p < film.count.size(); ++p) {
+      vec3 v = film.mean(p);
+      max_dev = std::max(max_dev, double(max_component(glm::abs(v - vec3(1.0f)))));
+    }
+    // Paths trapped in glass until roulette are the only variance: allow a little.
+    EXPECT_LT(max_dev, 0.02) << config_name(k, LightSampling::solid_angle);
+    EXPECT_EQ(counters.nonfinite_samples, 0u);
+  }
+}
+
+TEST(Furnace, ConvexDiffuseSphereReflectsItsAlbedo) {
+  Scene s;
+  s.background = vec3(1.0f);
+  add_material(s, diffuse(vec3(0.3f, 0.5f, 0.7f)));
+  s.spheres.push_back({vec3(0.0f), 1.0f, 0});
+  RenderScene rs = make_render_scene(s);
+  RenderParams params;
+  for (IntegratorKind k : kIntegrators) {
+    params.integrator = k;
+    RenderCounters c;
+    PixelSampler sampler = PixelSampler::start(1, 2, 3);
+    for (int i = 0; i < 200; ++i) {
+      Ray ray{vec3(0.1f * (i % 7) - 0.3f, 0.05f * (i % 11) - 0.25f, 5.0f), vec3(0, 0, -1), kInfinity};
+      vec3 L = trace_path(rs, params, ray, sampler, c);
+      // A convex object cannot see itself: one bounce, then the background; exact.
+      EXPECT_NEAR(L.x, 0.3f, 1e-5f);
+      EXPECT_NEAR(L.y, 0.5f, 1e-5f);
+      EXPECT_NEAR(L.z, 0.7f, 1e-5f);
+    }
+  }
+}
+
+TEST(Furnace, ClosedEmissiveRoomConvergesToGeometricSeries) {
+  // Inside a closed box whose walls emit Le (front faces inward) with albedo a, radiance is Le / (1 - a)
+  // everywhere: an infinite-bounce answer that needs roulette and counts emission exactly once per path.
+  const float a = 0.6f, le = 0.4f;  // expected radiance 1
+  Scene s;
+  add_material(s, diffuse(vec3(a), vec3(le)));
+  add_box(s, vec3(-1.0f), vec3(1.0f), 0, true);
+  RenderScene rs = make_render_scene(s);
+  ASSERT_EQ(rs.lights.lights.size(), 6u);
+  for (IntegratorKind k : kIntegrators)
+    for (LightSampling mode : kModes) {
+      RenderParams params;
+      params.integrator = k;
+      params.light_sampling = mode;
+      params.max_depth = 1000;
+      Ray ray{vec3(0.1f, 0.2f, 0.3f), glm::normalize(vec3(0.3f, -0.5f, 0.8f)), kInfinity};
+      Estimate e = estimate(rs, params, ray, 40000, 7);
+      EXPECT_NEAR(e.mean, 1.0, 5.0 * e.stderr_ + 1e-3) << config_name(k, mode);
+    }
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+
+struct LightOverPlane {
+  RenderScene rs;
+  std::vector<dvec3> light_polygon;
+  float albedo = 0.5f;
+  float radiance = 4.0f;
+};
+
+/// A large diffuse floor at y = 0 facing up and an emitter 1 unit above it, facing down.
+LightOverPlane make_light_over_plane(const std::string& kind) {
+  LightOverPlane out;
+  Scene s;
+  add_material(s, diffuse(vec3(out.albedo)));
+  uint32_t emitter = add_material(s, diffuse(vec3(0.0f), vec3(out.radiance)));
+  s.quads.push_back({vec3(-50, 0, 50), vec3(100, 0, 0), vec3(0, 0, -100), 0});
+  if (kind == "rect") {
+    vec3 c(-0.3f, 1.0f, -0.2f), e1(0, 0, 0.5f), e2(0.8f, 0, 0);  // cross(e1, e2) = -y: faces down
+    s.quads.push_back({c, e1, e2, emitter});
+    out.light_polygon = {dvec3(c), dvec3(c + e1), dvec3(c + e1 + e2), dvec3(c + e2)};
+  } else {  // an emissive mesh triangle
+    Mesh mesh;
+    mesh.positions = {vec3(-0.4f, 1.0f, -0.3f), vec3(0.5f, 1.0f, -0.2f), vec3(0.0f, 1.0f, 0.6f)};
+    mesh.indices = {uvec3(0, 2, 1)};  // CCW seen from below
+    mesh.materials = {emitter};
+    for (uint32_t i : {0u, 2u, 1u}) out.light_polygon.push_back(dvec3(mesh.positions[i]));
+    s.meshes.push_back(mesh);
+  }
+  out.rs = make_render_scene(s);
+  return out;
+}
+
+class PolygonIrradiance : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(PolygonIrradiance, DirectLightingMatchesLambertsFormula) {
+  LightOverPlane setup = make_light_over_plane(GetParam());
+  ASSERT_EQ(setup.rs.lights.lights.size(), 1u);
+  const vec3 points[] = {vec3(0.05f, 0, 0.02f), vec3(0.9f, 0, -0.7f), vec3(-2.0f, 0, 1.5f)};
+  for (vec3 x : points) {
+    double expected = setup.albedo / M_PI *
+                      polygon_irradiance(setup.light_polygon, dvec3(x), dvec3(0, 1, 0), setup.radiance);
+    for (IntegratorKind k : kIntegrators)
+      for (LightSampling mode : kModes) {
+        RenderParams params;
+        params.integrator = k;
+        params.light_sampling = mode;
+        params.max_depth = 1;  // emission seen directly + direct lighting at the first hit
+        Ray ray{x + vec3(0.0f, 0.5f, 0.0f), vec3(0, -1, 0), kInfinity};
+        Estimate e = estimate(setup.rs, params, ray, 60000, 11);
+        EXPECT_NEAR(e.mean, expected, 5.0 * e.stderr_ + 1e-4 * expected)
+            << GetParam() << " " << config_name(k, mode) << " at x=" << x.x << "," << x.z;
+      }
+  }
+}
+INSTANTIATE_TEST_SUITE_P(Lights, PolygonIrradiance, ::testing::Values("rect", "triangle"));
+
+TEST(SphereLight, IrradianceBelowASphereMatchesClosedForm) {
+  // A sphere of radiance L and radius r whose center is at distance d straight above x: E = pi L (r/d)^2.
+  Scene s;
+  add_material(s, diffuse(vec3(1.0f)));
+  uint32_t emitter = add_material(s, diffuse(vec3(0.0f), vec3(2.0f)));
+  s.quads.push_back({vec3(-50, 0, 50), vec3(100, 0, 0), vec3(0, 0, -100), 0});
+  const float r = 0.3f, d = 1.5f;
+  s.spheres.push_back({vec3(0, d, 0), r, emitter});
+  RenderScene rs = make_render_scene(s);
+  double expected = 1.0 / M_PI * M_PI * 2.0 * (r / d) * (r / d);
+  for (IntegratorKind k : kIntegrators) {
+    RenderParams params;
+    params.integrator = k;
+    params.max_depth = 1;
+    Ray ray{vec3(0, 0.5f, 0), vec3(0, -1, 0), kInfinity};
+    Estimate e = estimate(rs, params, ray, 60000, 5);
+    EXPECT_NEAR(e.mean, expected, 5.0 * e.stderr_ + 1e-4) << config_name(k, LightSampling::solid_angle);
+  }
+}
+
+TEST(LightPdf, SampleAndPdfAgreeForEveryLightKind) {
+  // MIS is only unbiased if light_pdf returns the density sample_light used.
+  std::vector<Light> lights = {
+      make_rect_light(vec3(-0.5f, 1, -0.5f), vec3(0, 0, 1), vec3(1, 0, 0), vec3(1)),
+      make_rect_light(vec3(-0.5f, 1, -0.5f), vec3(0.2f, 0, 1), vec3(1, 0, 0), vec3(1)),  // parallelogram
+      make_triangle_light(vec3(-0.5f, 1, -0.5f), vec3(0.5f, 1, -0.5f), vec3(0, 1, 0.7f), vec3(1)),
+      make_sphere_light(vec3(0, 1.5f, 0), 0.4f, vec3(1)),
+      make_sphere_light(vec3(0, 400.0f, 0), 0.01f, vec3(1)),  // tiny cone
+  };
+  Pcg32 rng(3, 4);
+  int checked = 0;
+  for (const Light& light : lights)
+    for (LightSampling mode : kModes)
+      for (int i = 0; i < 2000; ++i) {
+        vec3 ref(rng.next_float() * 4 - 2, rng.next_float() * 0.9f - 0.5f, rng.next_float() * 4 - 2);
+        LightSample ls;
+        if (!sample_light(light, ref, vec2(rng.next_float(), rng.next_float()), mode, ls)) continue;
+        vec3 n_light = light.kind == LightKind::sphere ? glm::normalize(ls.point.p - light.p0) : light.n;
+        float pdf = light_pdf(light, ref, ls.wi, ls.dist, n_light, mode);
+        ASSERT_NEAR(pdf, ls.pdf, 2e-3f * ls.pdf) << "light kind " << int(light.kind) << " mode " << int(mode);
+        ++checked;
+      }
+  EXPECT_GT(checked, 10000);
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+
+TEST(Strategies, AllThreeConvergeToTheSameImage) {
+  Scene s = test::make_test_cornell();
+  RenderScene rs = make_render_scene(s);
+  RenderParams base;
+  base.max_depth = 6;
+  // A few pixels looking at the floor, a wall, the glass and the mirror sphere.
+  const Ray rays[] = {
+      {vec3(0, 1, 0.99f), glm::normalize(vec3(0.1f, -0.8f, -0.5f)), kInfinity},
+      {vec3(0, 1, 0.99f), glm::normalize(vec3(-0.9f, 0.1f, -0.6f)), kInfinity},
+      {vec3(0, 1, 0.99f), glm::normalize(vec3(-0.45f, -0.6f, -1.0f)), kInfinity},
+      {vec3(0, 1, 0.99f), glm::normalize(vec3(0.45f, -0.6f, -1.3f)), kInfinity},
+  };
+  for (const Ray& ray : rays) {
+    RenderParams mis = base;
+    Estimate reference = estimate(rs, mis, ray, 60000, 21);
+    for (IntegratorKind k : kIntegrators)
+      for (LightSampling mode : kModes) {
+        RenderParams p = base;
+        p.integrator = k;
+        p.light_sampling = mode;
+        Estimate e = estimate(rs, p, ray, 60000, 99);
+        double sigma = std::sqrt(e.stderr_ * e.stderr_ + reference.stderr_ * reference.stderr_);
+        EXPECT_NEAR(e.mean, reference.mean, 5.0 * sigma + 1e-4) << config_name(k, mode);
+      }
+  }
+}
+
+TEST(MaxDepth, ZeroSeesOnlyEmissionDirectly) {
+  Scene s = test::make_test_cornell();
+  RenderScene rs = make_render_scene(s);
+  RenderParams p;
+  p.max_depth = 0;
+  RenderCounters c;
+  PixelSampler sampler = PixelSampler::start(0, 0, 0);
+  Ray at_wall{vec3(0, 1, 0.99f), vec3(0, 0, -1), kInfinity};
+  EXPECT_EQ(trace_path(rs, p, at_wall, sampler, c), vec3(0.0f));
+  Ray at_light{vec3(0, 1, 0.0f), vec3(0, 1, 0), kInfinity};
+  EXPECT_EQ(trace_path(rs, p, at_light, sampler, c), vec3(15.0f, 12.0f, 8.0f));
+  EXPECT_EQ(c.shadow_rays, 0u);
+}
+
+TEST(NonFinite, SamplesAreDroppedAndCounted) {
+  Scene s;
+  Material bad = diffuse(vec3(std::nanf("")));
+  add_material(s, bad);
+  s.background = vec3(1.0f);
+  s.spheres.push_back({vec3(0.0f), 1.0f, 0});
+  s.camera = Camera{vec3(0, 0, 3), vec3(0.0f), vec3(0, 1, 0), 60.0f};
+  RenderScene rs = make_render_scene(s);
+  RenderParams params;
+  params.width = params.height = 8;
+  Film film(8, 8);
+  Renderer renderer(1);
+  RenderCounters c;
+  renderer.render_frame(rs, params, film, 0, c);
+  EXPECT_GT(c.nonfinite_samples, 0u);
+  EXPECT_LT(c.nonfinite_samples, 64u);
+  for (size_t p = 0; p < film.count.size(); ++p) EXPECT_TRUE(is_finite(film.mean(p)));
+  size_t counted = 0;
+  for (uint32_t n : film.count) counted += n;
+  EXPECT_EQ(counted + c.nonfinite_samples, 64u);
+}
+
+}  // namespace
+}  // namespace pt
