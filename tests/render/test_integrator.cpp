@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 
 #include "render/renderer.h"
 #include "scene_builders.h"
@@ -164,15 +165,15 @@ LightOverPlane make_light_over_plane(const std::string& kind) {
   uint32_t emitter = add_material(s, diffuse(vec3(0.0f), vec3(out.radiance)));
   s.quads.push_back({vec3(-50, 0, 50), vec3(100, 0, 0), vec3(0, 0, -100), 0});
   if (kind == "rect") {
-    vec3 c(-0.3f, 1.0f, -0.2f), e1(0, 0, 0.5f), e2(0.8f, 0, 0);  // cross(e1, e2) = -y: faces down
+    vec3 c(-0.3f, 1.0f, -0.2f), e1(0.8f, 0, 0), e2(0, 0, 0.5f);  // cross(e1, e2) = -y: faces down
     s.quads.push_back({c, e1, e2, emitter});
     out.light_polygon = {dvec3(c), dvec3(c + e1), dvec3(c + e1 + e2), dvec3(c + e2)};
   } else {  // an emissive mesh triangle
     Mesh mesh;
     mesh.positions = {vec3(-0.4f, 1.0f, -0.3f), vec3(0.5f, 1.0f, -0.2f), vec3(0.0f, 1.0f, 0.6f)};
-    mesh.indices = {uvec3(0, 2, 1)};  // CCW seen from below
+    mesh.indices = {uvec3(0, 1, 2)};  // CCW seen from below: faces down
     mesh.materials = {emitter};
-    for (uint32_t i : {0u, 2u, 1u}) out.light_polygon.push_back(dvec3(mesh.positions[i]));
+    for (vec3 p : mesh.positions) out.light_polygon.push_back(dvec3(p));
     s.meshes.push_back(mesh);
   }
   out.rs = make_render_scene(s);
@@ -293,8 +294,8 @@ TEST(MaxDepth, ZeroSeesOnlyEmissionDirectly) {
 
 TEST(NonFinite, SamplesAreDroppedAndCounted) {
   Scene s;
-  Material bad = diffuse(vec3(std::nanf("")));
-  add_material(s, bad);
+  // An emitter of infinite radiance: every camera ray that sees it carries inf.
+  add_material(s, diffuse(vec3(0.5f), vec3(std::numeric_limits<float>::infinity())));
   s.background = vec3(1.0f);
   s.spheres.push_back({vec3(0.0f), 1.0f, 0});
   s.camera = Camera{vec3(0, 0, 3), vec3(0.0f), vec3(0, 1, 0), 60.0f};
