@@ -59,6 +59,8 @@ ParseOutcome parse_command_line(int argc, const char* const* argv) {
   app.add_option("--max-depth", o.render.max_depth, "Maximum path depth, pbrt convention (default 64)");
   app.add_option("--integrator", integrator, "mis (default), nee or bsdf");
   app.add_option("--light-sampling", light_sampling, "area or solid-angle (default)");
+  std::string sampler = "sobol";
+  app.add_option("--sampler", sampler, "sobol (default: Owen-scrambled Sobol) or independent");
   app.add_option("--stats-json", o.stats_json, "Write run statistics as JSON");
   app.add_option("--reference", o.reference, "Reference image (.pfm/.exr) for --error-csv");
   app.add_option("--error-csv", o.error_csv, "After every frame append frame,spp,seconds,rmse,rel_mse");
@@ -109,6 +111,9 @@ ParseOutcome parse_command_line(int argc, const char* const* argv) {
   if (light_sampling == "area") o.render.light_sampling = LightSampling::area;
   else if (light_sampling == "solid-angle") o.render.light_sampling = LightSampling::solid_angle;
   else return fail("--light-sampling: expected area or solid-angle, got '" + light_sampling + "'");
+  if (sampler == "sobol") o.render.sampler = SamplerKind::sobol;
+  else if (sampler == "independent") o.render.sampler = SamplerKind::independent;
+  else return fail("--sampler: expected sobol or independent, got '" + sampler + "'");
   if (tonemap == "clamp" || tonemap == "none") o.display.tonemap = Tonemap::clamp;
   else if (tonemap == "reinhard") o.display.tonemap = Tonemap::reinhard;
   else if (tonemap == "aces") o.display.tonemap = Tonemap::aces;

@@ -34,6 +34,7 @@ std::string make_stats_json(const AppOptions& options, const Scene& scene, const
   j["threads"] = run.threads;
   j["integrator"] = integrator_name(options.render.integrator);
   j["light_sampling"] = options.render.light_sampling == LightSampling::area ? "area" : "solid-angle";
+  j["sampler"] = options.render.sampler == SamplerKind::sobol ? "sobol" : "independent";
   j["max_depth"] = options.render.max_depth;
   j["seed"] = options.render.seed;
   j["load_ms"] = run.load_ms;

@@ -13,10 +13,30 @@ struct PrevVertex {
   bool delta = true;  ///< the camera counts as a delta "bounce": emission seen directly is always added
 };
 
+/// The random numbers one path vertex consumes, drawn together so every vertex uses the same sampler dimensions
+/// whatever branch it takes (this keeps low-discrepancy dimensions aligned across a pixel's samples).
+struct VertexSamples {
+  float light_choice;
+  vec2 light_point;
+  float lobe;
+  vec2 direction;
+  float roulette;
+
+  static VertexSamples draw(PixelSampler& s) {
+    VertexSamples v;
+    v.light_choice = s.next1d();
+    v.light_point = s.next2d();
+    v.lobe = s.next1d();
+    v.direction = s.next2d();
+    v.roulette = s.next1d();
+    return v;
+  }
+};
+
 vec3 direct_light(const RenderScene& scene, const RenderParams& params, const SurfaceHit& sh,
-                  const ShadingContext& sc, const Material& m, PixelSampler& sampler, RenderCounters& c) {
-  float u_light = sampler.next1d();
-  vec2 u = sampler.next2d();
+                  const ShadingContext& sc, const Material& m, const VertexSamples& vs, RenderCounters& c) {
+  const float u_light = vs.light_choice;
+  const vec2 u = vs.light_point;
   float pmf = 0.0f;
   size_t li = scene.lights.power.sample(u_light, &pmf);
   const Light& light = scene.lights.lights[li];
@@ -83,14 +103,14 @@ vec3 trace_path(const RenderScene& scene, const RenderParams& params, Ray ray, P
     sc.ng = front ? sh.sp.ng : -sh.sp.ng;
     sc.n = front ? sh.ns : -sh.ns;
 
+    const VertexSamples vs = VertexSamples::draw(sampler);
     if (sample_lights) {
       if (is_delta(m)) ++c.light_sampling_skipped_specular;
-      else radiance += beta * direct_light(scene, params, sh, sc, m, sampler, c);
+      else radiance += beta * direct_light(scene, params, sh, sc, m, vs, c);
     }
 
-    float u_lobe = sampler.next1d();
     BsdfSample bs;
-    if (!sample_bsdf(m, sc, u_lobe, sampler.next2d(), bs)) break;
+    if (!sample_bsdf(m, sc, vs.lobe, vs.direction, bs)) break;
     beta *= bs.weight;
     eta_scale *= bs.eta_scale;
     prev = {sh.sp.p, bs.pdf, bs.delta};
@@ -103,7 +123,7 @@ vec3 trace_path(const RenderScene& scene, const RenderParams& params, Ray ray, P
     if (!(rr_max > 0.0f)) break;
     if (rr_max < 1.0f && depth >= 2) {
       float q = std::max(0.05f, 1.0f - rr_max);
-      if (sampler.next1d() < q) {
+      if (vs.roulette < q) {
         ++c.paths_ended_roulette;
         break;
       }

@@ -18,6 +18,7 @@ struct RenderParams {
   int max_depth = 64;  ///< pbrt's convention: 0 = emission seen directly, 1 = plus direct lighting, ...
   IntegratorKind integrator = IntegratorKind::mis;
   LightSampling light_sampling = LightSampling::solid_angle;
+  SamplerKind sampler = SamplerKind::sobol;
   uint64_t seed = 0;
   int threads = 0;     ///< 0 = all cores
 };
