@@ -94,6 +94,8 @@ ParseOutcome parse_command_line(int argc, const char* const* argv) {
   };
   if (!parse_size(size, o.render.width, o.render.height))
     return fail("--size: expected WxH with W and H from 1 to 16384, got '" + size + "'");
+  if (int64_t(o.render.width) * o.render.height > (int64_t(1) << 26))
+    return fail("--size: " + size + " is more than 67108864 pixels (the film would not fit in memory)");
   if (frames_opt->count()) {
     if (frames < 1) return fail("--frames: must be at least 1, got " + std::to_string(frames));
     o.frames = frames;

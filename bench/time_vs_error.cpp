@@ -1,0 +1,162 @@
+// Error against wall time for each sampling strategy and sampler (issue: run time against error).
+// For every scene: a reference (analytic where known, else a high-spp MIS render cached outside the repo), then
+// progressive renders recording (spp, seconds, rmse, rel_mse) after each power-of-two spp count.
+//   build/bench/bench_time_vs_error [--size 128] [--max-spp 256] [--ref-spp 4096] [--cache DIR] [--csv FILE]
+//                                   [--scenes a,b,...]
+// Then: python3 bench/plot_time_vs_error.py FILE.csv docs/img
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "app/app.h"
+#include "render/renderer.h"
+#include "scene/load.h"
+
+using namespace pt;
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Strategy {
+  const char* name;
+  IntegratorKind integrator;
+  LightSampling light_sampling;
+};
+const Strategy kStrategies[] = {
+    {"assignment(nee+area)", IntegratorKind::nee, LightSampling::area},
+    {"nee+solid-angle", IntegratorKind::nee, LightSampling::solid_angle},
+    {"mis+solid-angle", IntegratorKind::mis, LightSampling::solid_angle},
+    {"bsdf", IntegratorKind::bsdf, LightSampling::solid_angle},
+};
+const std::pair<const char*, SamplerKind> kSamplers[] = {{"independent", SamplerKind::independent},
+                                                         {"sobol", SamplerKind::sobol}};
+
+/// A small very bright light in the Cornell box: where uniform area sampling of a big light is not the issue but
+/// BSDF sampling struggles.
+Scene make_small_light_scene() {
+  Result<Scene> s = load_builtin_scene("cornell");
+  Scene scene = std::move(*s);
+  for (Quad& q : scene.quads) {
+    if (!scene.materials[q.material].emissive()) continue;
+    vec3 c = q.corner + 0.5f * (q.edge1 + q.edge2);
+    q.edge1 *= 0.1f;
+    q.edge2 *= 0.1f;
+    q.corner = c - 0.5f * (q.edge1 + q.edge2);
+    scene.materials[q.material].emission *= 100.0f;
+  }
+  scene.source = "small-bright-light";
+  return scene;
+}
+
+/// Uniform background 1 and albedo-1 objects: the exact image is 1 everywhere.
+Scene make_furnace_scene() {
+  Scene s;
+  s.source = "furnace";
+  s.background = vec3(1.0f);
+  Material white;
+  white.albedo = vec3(1.0f);
+  s.materials.push_back(white);
+  Material glass;
+  glass.type = MaterialType::glass;
+  s.materials.push_back(glass);
+  s.spheres.push_back({vec3(-0.6f, 0, 0), 0.5f, 0});
+  s.spheres.push_back({vec3(0.6f, 0, 0), 0.5f, 1});
+  s.camera = Camera{vec3(0, 0, 4), vec3(0.0f), vec3(0, 1, 0), 40.0f};
+  return s;
+}
+
+Image render(const RenderScene& rs, RenderParams p, int spp, Renderer& renderer) {
+  Film film(p.width, p.height);
+  RenderCounters c;
+  p.spp_per_frame = spp;
+  renderer.render_frame(rs, p, film, 0, c);
+  return film.resolve();
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  int size = 128, max_spp = 256, ref_spp = 4096;
+  std::string cache = std::string(std::getenv("HOME") ? std::getenv("HOME") : "/tmp") + "/.cache/ptview";
+  std::string csv_path = "time_vs_error.csv";
+  std::string only;
+  for (int i = 1; i + 1 < argc; i += 2) {
+    if (!std::strcmp(argv[i], "--size")) size = std::atoi(argv[i + 1]);
+    else if (!std::strcmp(argv[i], "--max-spp")) max_spp = std::atoi(argv[i + 1]);
+    else if (!std::strcmp(argv[i], "--ref-spp")) ref_spp = std::atoi(argv[i + 1]);
+    else if (!std::strcmp(argv[i], "--cache")) cache = argv[i + 1];
+    else if (!std::strcmp(argv[i], "--csv")) csv_path = argv[i + 1];
+    else if (!std::strcmp(argv[i], "--scenes")) only = "," + std::string(argv[i + 1]) + ",";
+  }
+  std::vector<std::pair<std::string, Scene>> scenes;
+  for (const char* name : {"cornell", "cornell-glass", "cornell-mirror", "cornell-large-mesh"}) {
+    Result<Scene> s = load_builtin_scene(name);
+    if (s) scenes.emplace_back(name, std::move(*s));
+  }
+  scenes.emplace_back("small-bright-light", make_small_light_scene());
+  scenes.emplace_back("furnace", make_furnace_scene());
+  fs::create_directories(cache);
+  Renderer renderer(0);
+  std::ofstream csv(csv_path);
+  csv << "scene,strategy,sampler,spp,seconds,rmse,rel_mse\n";
+  std::printf("%-20s %-22s %-12s %6s %9s %11s %11s\n", "scene", "strategy", "sampler", "spp", "seconds", "rmse",
+              "rel_mse");
+  for (auto& [name, scene] : scenes) {
+    if (!only.empty() && only.find("," + name + ",") == std::string::npos) continue;
+    RenderScene rs = make_render_scene(scene);
+    RenderParams base;
+    base.width = base.height = size;
+    base.max_depth = 64;
+    Image reference;
+    if (name == "furnace") {
+      reference = Image(size, size);
+      std::fill(reference.rgb.begin(), reference.rgb.end(), 1.0f);
+    } else {
+      std::string ref_path = cache + "/ref-" + name + "-" + std::to_string(size) + "-" + std::to_string(ref_spp) + ".pfm";
+      Result<Image> cached = load_image(ref_path);
+      if (cached) {
+        reference = std::move(*cached);
+      } else {
+        auto t0 = std::chrono::steady_clock::now();
+        RenderParams p = base;
+        p.seed = 987654321;
+        reference = render(rs, p, ref_spp, renderer);
+        double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        std::printf("# reference %s: %d spp in %.1f s -> %s\n", name.c_str(), ref_spp, s, ref_path.c_str());
+        if (auto err = save_image(ref_path, reference)) std::fprintf(stderr, "%s\n", err->message.c_str());
+      }
+    }
+    for (const Strategy& st : kStrategies)
+      for (auto [sampler_name, sampler] : kSamplers) {
+        RenderParams p = base;
+        p.integrator = st.integrator;
+        p.light_sampling = st.light_sampling;
+        p.sampler = sampler;
+        p.spp_per_frame = 1;
+        Film film(size, size);
+        RenderCounters c;
+        double seconds = 0;
+        int next_report = 1;
+        for (int spp = 1; spp <= max_spp; ++spp) {
+          auto t0 = std::chrono::steady_clock::now();
+          renderer.render_frame(rs, p, film, uint32_t(spp - 1), c);
+          seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+          if (spp != next_report) continue;
+          next_report *= 2;
+          ImageError e = compare_images(film.resolve(), reference);
+          csv << name << "," << st.name << "," << sampler_name << "," << spp << "," << seconds << "," << e.rmse << ","
+              << e.rel_mse << "\n";
+          std::printf("%-20s %-22s %-12s %6d %9.3f %11.4g %11.4g\n", name.c_str(), st.name, sampler_name, spp, seconds,
+                      e.rmse, e.rel_mse);
+        }
+      }
+  }
+  std::printf("wrote %s\n", csv_path.c_str());
+}
