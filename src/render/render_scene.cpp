@@ -49,6 +49,17 @@ std::shared_ptr<const RenderGeometry> make_render_geometry(const Scene& scene, c
   RenderGeometry& g = *geo;
   const uint32_t material_count = uint32_t(std::max<size_t>(1, scene.materials.size()));
   auto clamp_material = [&](uint32_t m) { return m < material_count ? m : 0u; };
+  AABB bounds;
+  for (const Mesh& mesh : scene.meshes)
+    for (vec3 p : mesh.positions)
+      if (is_finite(p)) bounds.extend(p);
+  for (const Quad& q : scene.quads) {
+    bounds.extend(q.corner);
+    bounds.extend(q.corner + q.edge1 + q.edge2);
+  }
+  for (const Sphere& s : scene.spheres) bounds.extend(s.center);
+  g.origin = bounds.empty() || !is_finite(bounds.center()) ? vec3(0.0f) : bounds.center();
+  const vec3 o = g.origin;
   size_t tri_total = scene.triangle_count();
   g.tri_vertices.reserve(3 * tri_total);
   g.tri_normals.reserve(3 * tri_total);
@@ -57,7 +68,7 @@ std::shared_ptr<const RenderGeometry> make_render_geometry(const Scene& scene, c
     bool has_normals = !mesh.normal_indices.empty() && mesh.normal_indices.size() == mesh.indices.size();
     for (size_t t = 0; t < mesh.indices.size(); ++t) {
       uvec3 idx = mesh.indices[t];
-      for (int k = 0; k < 3; ++k) g.tri_vertices.push_back(mesh.positions[idx[k]]);
+      for (int k = 0; k < 3; ++k) g.tri_vertices.push_back(mesh.positions[idx[k]] - o);
       for (int k = 0; k < 3; ++k) {
         vec3 n(0.0f);
         if (has_normals) {
@@ -73,14 +84,14 @@ std::shared_ptr<const RenderGeometry> make_render_geometry(const Scene& scene, c
   g.quad_first_triangle = uint32_t(g.tri_material.size());
   for (const Quad& q : scene.quads) {
     // Triangles (c, c+e1, c+e2) and (c+e1+e2, c+e2, c+e1): the winding of cross(e1, e2).
-    vec3 c = q.corner, a = q.corner + q.edge1, b = q.corner + q.edge2, d = q.corner + q.edge1 + q.edge2;
+    vec3 c = q.corner - o, a = c + q.edge1, b = c + q.edge2, d = c + q.edge1 + q.edge2;
     for (vec3 p : {c, a, b, d, b, a}) g.tri_vertices.push_back(p);
     for (int k = 0; k < 6; ++k) g.tri_normals.push_back(vec3(0.0f));
     g.tri_material.push_back(clamp_material(q.material));
     g.tri_material.push_back(clamp_material(q.material));
   }
   for (const Sphere& s : scene.spheres) {
-    g.spheres.push_back({s.center, s.radius});
+    g.spheres.push_back({s.center - o, s.radius});
     g.sphere_material.push_back(clamp_material(s.material));
   }
   for (uint32_t t = 0; t < g.triangle_count(); ++t) {
@@ -99,6 +110,8 @@ RenderScene make_render_scene(const Scene& scene, std::shared_ptr<const RenderGe
   if (rs.materials.empty()) rs.materials.push_back(Material{"default"});
   rs.background = scene.background.value_or(vec3(0.0f));
   rs.camera = scene.camera.value_or(Camera{});
+  rs.camera.eye -= rs.geo->origin;
+  rs.camera.target -= rs.geo->origin;
   rebuild_lights(rs);
   return rs;
 }

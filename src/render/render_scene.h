@@ -29,6 +29,9 @@ struct SceneFeatures {
 /// The immutable, heavy part of a render scene: flattened primitives and the BVH. Shared (not copied) between
 /// versions of a scene that differ only in materials, lights' emission, camera or background.
 struct RenderGeometry {
+  /// Everything below is stored relative to this point (the center of the scene's bounds), so a scene far from
+  /// the world origin is traced with small coordinates and small rounding errors ("camera-relative" rendering).
+  vec3 origin{0.0f};
   // Triangles: meshes first (in order), then two per quad. Vertex triples, per-corner shading normals (zero when
   // the triangle has none), material per triangle.
   std::vector<vec3> tri_vertices;
@@ -54,7 +57,7 @@ struct RenderScene {
   LightSet lights;
   vec3 background{0.0f};
   SceneFeatures features;
-  Camera camera;
+  Camera camera;  ///< relative to geo->origin, like the geometry
 
   const TraceGeometry& trace() const { return geo->trace; }
   uint32_t triangle_count() const { return geo->triangle_count(); }
