@@ -70,6 +70,12 @@ RenderScene make_render_scene(const Scene& scene, const BvhBuildOptions& bvh_opt
 /// must be those `geo` was built from): a material or camera edit costs no BVH rebuild.
 RenderScene make_render_scene(const Scene& scene, std::shared_ptr<const RenderGeometry> geo);
 
+/// A world-space ray in the render scene's (origin-shifted) frame, for callers outside the camera: tests, picking.
+inline Ray to_render_frame(const RenderScene& rs, Ray ray) {
+  ray.org -= rs.geo->origin;
+  return ray;
+}
+
 /// Surface details of a hit: position reconstructed from barycentrics (pbrt-v4 section 6.8.5 error bounds).
 SurfaceHit make_surface_hit(const RenderScene& rs, const Ray& ray, const Hit& hit);
 

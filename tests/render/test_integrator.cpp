@@ -20,9 +20,10 @@ struct Estimate {
   double stderr_ = 0.0;
 };
 
-/// Mean luminance-free estimate (channel x) of radiance along `ray`, over n independent samples.
-Estimate estimate(const RenderScene& rs, const RenderParams& params, const Ray& ray, int n, uint64_t seed,
+/// Estimate (channel x) of radiance along the world-space `ray_world`, over n samples.
+Estimate estimate(const RenderScene& rs, const RenderParams& params, const Ray& ray_world, int n, uint64_t seed,
                   RenderCounters* counters_out = nullptr) {
+  const Ray ray = to_render_frame(rs, ray_world);
   RenderCounters counters;
   double sum = 0.0, sum2 = 0.0;
   for (int i = 0; i < n; ++i) {
@@ -118,7 +119,7 @@ TEST(Furnace, ConvexDiffuseSphereReflectsItsAlbedo) {
     PixelSampler sampler = PixelSampler::start(1, 2, 3);
     for (int i = 0; i < 200; ++i) {
       Ray ray{vec3(0.1f * (i % 7) - 0.3f, 0.05f * (i % 11) - 0.25f, 5.0f), vec3(0, 0, -1), kInfinity};
-      vec3 L = trace_path(rs, params, ray, sampler, c);
+      vec3 L = trace_path(rs, params, to_render_frame(rs, ray), sampler, c);
       // A convex object cannot see itself: one bounce, then the background; exact.
       EXPECT_NEAR(L.x, 0.3f, 1e-5f);
       EXPECT_NEAR(L.y, 0.5f, 1e-5f);
@@ -291,9 +292,9 @@ TEST(MaxDepth, ZeroSeesOnlyEmissionDirectly) {
   RenderCounters c;
   PixelSampler sampler = PixelSampler::start(0, 0, 0);
   Ray at_wall{vec3(0, 1, 0.99f), vec3(0, 0, -1), kInfinity};
-  EXPECT_EQ(trace_path(rs, p, at_wall, sampler, c), vec3(0.0f));
+  EXPECT_EQ(trace_path(rs, p, to_render_frame(rs, at_wall), sampler, c), vec3(0.0f));
   Ray at_light{vec3(0, 1, 0.0f), vec3(0, 1, 0), kInfinity};
-  EXPECT_EQ(trace_path(rs, p, at_light, sampler, c), vec3(15.0f, 12.0f, 8.0f));
+  EXPECT_EQ(trace_path(rs, p, to_render_frame(rs, at_light), sampler, c), vec3(15.0f, 12.0f, 8.0f));
   EXPECT_EQ(c.shadow_rays, 0u);
 }
 
