@@ -279,6 +279,17 @@ Result<Scene> parse_json_scene(std::string_view text, const std::string& path) {
     std::string reason = e.what();
     if (size_t colon = reason.find(": "); colon != std::string::npos) reason = reason.substr(colon + 2);
     return Error{path + ":" + std::to_string(line) + ": invalid JSON: " + reason};
+  } catch (const json::out_of_range& e) {
+    // "number overflow parsing '1e999'": nlohmann gives no position, so find the token in the text.
+    std::string what = e.what();
+    size_t q1 = what.find('\''), q2 = what.rfind('\'');
+    int line = 1;
+    if (q1 != std::string::npos && q2 > q1) {
+      size_t at = text.find(what.substr(q1 + 1, q2 - q1 - 1));
+      if (at != std::string_view::npos) line += int(std::count(text.begin(), text.begin() + std::ptrdiff_t(at), '\n'));
+    }
+    std::string reason = what.substr(what.find(']') == std::string::npos ? 0 : what.find(']') + 2);
+    return Error{path + ":" + std::to_string(line) + ": invalid JSON: " + reason};
   } catch (const std::exception& e) {
     return Error{path + ": invalid JSON: " + e.what()};
   }
