@@ -1,0 +1,188 @@
+// Every sampling routine against its claimed density (chi-square), densities that integrate to 1, and frames
+// that stay orthonormal everywhere.
+#include <gtest/gtest.h>
+
+#include "chi_square.h"
+#include "core/frame.h"
+#include "core/sampling.h"
+
+namespace pt {
+namespace {
+
+using test::chi_square_2d;
+
+// 10 chi-square tests below; a Sidak-corrected significance level keeps the family's false alarm rate at 1%.
+const double kAlpha = 1.0 - std::pow(1.0 - 0.01, 1.0 / 10.0);
+const int kSamples = 1000000;
+
+float wrap_phi(vec3 d) {
+  float phi = std::atan2(d.y, d.x);
+  if (phi < 0) phi += kTwoPi;
+  return std::min(phi * kInv2Pi, kOneMinusEpsilon);
+}
+
+TEST(Sampling, CosineHemisphereFollowsItsPdf) {
+  // Parametrize by (cos theta, phi / 2 pi): d omega = d cos d phi, so the density is pdf(omega) * 2 pi.
+  auto r = chi_square_2d([](vec2 u) { vec3 d = sample_cosine_hemisphere(u); return vec2(d.z, wrap_phi(d)); },
+                         [](vec2 x) { return cosine_hemisphere_pdf(x.x) * kTwoPi; }, 20, 40, kSamples, 1);
+  EXPECT_GT(r.p_value, kAlpha) << r.describe();
+  EXPECT_NEAR(r.expected_total / kSamples, 1.0, 1e-3);
+}
+
+TEST(Sampling, UniformSphereFollowsItsPdf) {
+  auto r = chi_square_2d([](vec2 u) { vec3 d = sample_uniform_sphere(u); return vec2(0.5f * (d.z + 1.0f), wrap_phi(d)); },
+                         [](vec2) { return uniform_sphere_pdf() * 2.0 * kTwoPi; }, 20, 40, kSamples, 2);
+  EXPECT_GT(r.p_value, kAlpha) << r.describe();
+  EXPECT_NEAR(r.expected_total / kSamples, 1.0, 1e-3);
+}
+
+class ConeTest : public ::testing::TestWithParam<float> {};
+
+TEST_P(ConeTest, UniformConeFollowsItsPdf) {
+  const float cos_max = GetParam();
+  const double span = 1.0 - double(cos_max);
+  // s = (1 - cos theta) / (1 - cos_max) in [0,1]: the density over (s, phi/2pi) is pdf * span * 2 pi.
+  auto r = chi_square_2d(
+      [&](vec2 u) {
+        vec3 d = sample_uniform_cone(u, cos_max);
+        double one_minus = double(d.x) * d.x + double(d.y) * d.y;  // sin^2; 1 - cos = sin^2 / (1 + cos)
+        one_minus /= 1.0 + d.z;
+        return vec2(float(std::min(one_minus / span, 0.99999)), wrap_phi(d));
+      },
+      [&](vec2) { return uniform_cone_pdf(cos_max) * span * kTwoPi; }, 16, 32, kSamples, 3);
+  EXPECT_GT(r.p_value, kAlpha) << "cos_max " << cos_max << " " << r.describe();
+  EXPECT_NEAR(r.expected_total / kSamples, 1.0, 2e-3);
+}
+INSTANTIATE_TEST_SUITE_P(Cones, ConeTest, ::testing::Values(0.3f, 0.9999f));
+
+TEST(Sampling, TriangleIsUniformByArea) {
+  // Through the inverse of the classic square-root warp, (b0, b1, b2) -> ((1 - b0)^2, b1 / (1 - b0)), a point
+  // uniform by area becomes uniform on the unit square.
+  auto r = chi_square_2d(
+      [](vec2 u) {
+        vec3 b = sample_uniform_triangle(u);
+        double s = 1.0 - double(b.x);
+        return vec2(float(s * s), s > 0 ? float(double(b.y) / s) : 0.0f);
+      },
+      [](vec2) { return 1.0; }, 24, 24, kSamples, 4);
+  EXPECT_GT(r.p_value, kAlpha) << r.describe();
+  for (int i = 0; i < 1000; ++i) {
+    vec3 b = sample_uniform_triangle(vec2(i / 1000.0f, std::fmod(i * 0.618034f, 1.0f)));
+    EXPECT_NEAR(b.x + b.y + b.z, 1.0f, 1e-6f);
+    EXPECT_GE(min_component(b), 0.0f);
+  }
+}
+
+struct RectCase {
+  vec3 ref, corner, e1, e2;
+};
+
+class SphericalRectTest : public ::testing::TestWithParam<int> {};
+
+const RectCase kRects[] = {
+    {vec3(0.1f, -1.0f, 0.2f), vec3(-0.5f, 0, -0.5f), vec3(1, 0, 0), vec3(0, 0, 1)},         // below the center
+    {vec3(3.0f, -0.5f, 1.0f), vec3(-0.5f, 0, -0.5f), vec3(1, 0, 0), vec3(0, 0, 1)},         // far to the side
+    {vec3(-0.45f, -0.05f, -0.48f), vec3(-0.5f, 0, -0.5f), vec3(1, 0, 0), vec3(0, 0, 1)},    // close to a corner
+    {vec3(0.2f, 0.7f, 0.1f), vec3(-0.5f, 0, -0.5f), vec3(1, 0, 0), vec3(0, 0, 1)},          // above the plane
+    {vec3(0.3f, 0.2f, 1.5f), vec3(0, 0, 0), vec3(0.6f, 0.8f, 0), vec3(-0.4f, 0.3f, 0.5f)},   // tilted, long-short
+};
+
+TEST_P(SphericalRectTest, UniformInSolidAngle) {
+  const RectCase c = kRects[GetParam()];
+  SphericalRectangle sr;
+  ASSERT_TRUE(make_spherical_rectangle(c.ref, c.corner, c.e1, c.e2, sr));
+  const vec3 n = glm::normalize(glm::cross(c.e1, c.e2));
+  const double area = glm::length(glm::cross(c.e1, c.e2));
+  const float l1 = glm::length(c.e1), l2 = glm::length(c.e2);
+  // Density over the rectangle's (a, b) parameters: (1 / solid angle) * d omega / d(a, b).
+  auto density = [&](vec2 x) {
+    vec3 p = c.corner + x.x * c.e1 + x.y * c.e2;
+    vec3 d = p - c.ref;
+    double dist2 = glm::dot(d, d);
+    double cos_l = std::abs(glm::dot(glm::normalize(d), n));
+    return cos_l * area / dist2 / sr.solid_angle;
+  };
+  auto sample = [&](vec2 u) {
+    vec3 p = sample_spherical_rectangle(sr, u) - c.corner;
+    return vec2(glm::dot(p, c.e1) / (l1 * l1), glm::dot(p, c.e2) / (l2 * l2));
+  };
+  auto r = chi_square_2d(sample, density, 24, 24, kSamples, 10 + GetParam());
+  EXPECT_GT(r.p_value, kAlpha) << "case " << GetParam() << " " << r.describe();
+  // The solid angle itself: the density integrates to 1 only if solid_angle is right.
+  EXPECT_NEAR(r.expected_total / kSamples, 1.0, 2e-3) << "case " << GetParam();
+}
+INSTANTIATE_TEST_SUITE_P(Rects, SphericalRectTest, ::testing::Range(0, 5));
+
+TEST(Sampling, SphericalRectangleDegenerateCases) {
+  SphericalRectangle sr;
+  EXPECT_FALSE(make_spherical_rectangle(vec3(0.2f, 0, 0.3f), vec3(0), vec3(1, 0, 0), vec3(0, 0, 1), sr));  // in plane
+  EXPECT_EQ(sr.solid_angle, 0.0f);
+  EXPECT_FALSE(make_spherical_rectangle(vec3(0, 1, 0), vec3(0), vec3(0, 0, 0), vec3(0, 0, 1), sr));  // no area
+  // Sampled points stay on the rectangle even for far, thin configurations.
+  ASSERT_TRUE(make_spherical_rectangle(vec3(0, 1e3f, 0), vec3(0), vec3(1e-3f, 0, 0), vec3(0, 0, 1), sr));
+  Pcg32 rng(1, 1);
+  for (int i = 0; i < 10000; ++i) {
+    vec3 p = sample_spherical_rectangle(sr, vec2(rng.next_float(), rng.next_float()));
+    ASSERT_TRUE(is_finite(p));
+    EXPECT_GE(p.x, -1e-6f);
+    EXPECT_LE(p.x, 1e-3f + 1e-6f);
+    EXPECT_NEAR(p.y, 0.0f, 1e-3f);
+  }
+}
+
+TEST(Sampling, DiscreteDistributionFollowsWeights) {
+  const std::vector<float> w = {1.0f, 0.0f, 3.0f, 0.5f, 0.0f, 2.5f};
+  DiscreteDistribution d(w);
+  std::vector<double> counts(w.size(), 0.0), remapped(10, 0.0);
+  Pcg32 rng(7, 7);
+  const int n = 700000;
+  for (int i = 0; i < n; ++i) {
+    float pmf, ur;
+    size_t k = d.sample(rng.next_float(), &pmf, &ur);
+    ASSERT_GT(w[k], 0.0f) << "picked a zero-weight entry";
+    EXPECT_EQ(pmf, d.pmf(k));
+    counts[k] += 1;
+    remapped[std::min(size_t(ur * 10), size_t(9))] += 1;
+  }
+  double chi2 = 0.0, chi2_u = 0.0, total = 7.0;
+  int dof = -1;
+  for (size_t k = 0; k < w.size(); ++k) {
+    if (w[k] == 0.0f) continue;
+    double e = n * w[k] / total;
+    chi2 += (counts[k] - e) * (counts[k] - e) / e;
+    ++dof;
+  }
+  for (double c : remapped) chi2_u += (c - n / 10.0) * (c - n / 10.0) / (n / 10.0);
+  EXPECT_GT(test::gamma_q(0.5 * dof, 0.5 * chi2), kAlpha) << chi2;
+  EXPECT_GT(test::gamma_q(4.5, 0.5 * chi2_u), kAlpha) << chi2_u;  // the remapped u is uniform
+  double sum = 0.0;
+  for (size_t k = 0; k < d.size(); ++k) sum += d.pmf(k);
+  EXPECT_NEAR(sum, 1.0, 1e-6);
+  // All zero weights: uniform.
+  DiscreteDistribution z(std::vector<float>{0.0f, 0.0f, 0.0f, 0.0f});
+  EXPECT_FLOAT_EQ(z.pmf(2), 0.25f);
+  EXPECT_EQ(z.sample(0.6f), 2u);
+  EXPECT_EQ(z.sample(kOneMinusEpsilon), 3u);
+}
+
+TEST(Frame, OrthonormalEverywhereIncludingMinusZ) {
+  Pcg32 rng(3, 3);
+  std::vector<vec3> normals = {vec3(0, 0, -1), vec3(0, 0, 1), glm::normalize(vec3(1e-7f, 0, -1)),
+                               glm::normalize(vec3(0, 1e-7f, -1)), vec3(1, 0, 0), vec3(0, -1, 0)};
+  for (int i = 0; i < 10000; ++i) normals.push_back(sample_uniform_sphere(vec2(rng.next_float(), rng.next_float())));
+  for (vec3 n : normals) {
+    Frame f = Frame::from_normal(n);
+    EXPECT_NEAR(glm::length(f.s), 1.0f, 1e-5f);
+    EXPECT_NEAR(glm::length(f.t), 1.0f, 1e-5f);
+    EXPECT_NEAR(glm::dot(f.s, f.t), 0.0f, 1e-5f);
+    EXPECT_NEAR(glm::dot(f.s, n), 0.0f, 1e-5f);
+    EXPECT_NEAR(glm::dot(f.t, n), 0.0f, 1e-5f);
+    EXPECT_GT(glm::dot(glm::cross(f.s, f.t), n), 0.999f);  // right-handed
+    vec3 v(0.3f, -0.4f, 0.866f);
+    vec3 back = f.to_local(f.to_world(v));
+    EXPECT_NEAR(glm::length(back - v), 0.0f, 1e-5f);
+  }
+}
+
+}  // namespace
+}  // namespace pt
