@@ -120,6 +120,22 @@ RenderScene make_render_scene(const Scene& scene, const BvhBuildOptions& bvh_opt
   return make_render_scene(scene, make_render_geometry(scene, bvh_options));
 }
 
+std::shared_ptr<const RenderGeometry> update_quads(const RenderGeometry& geo, const Scene& scene) {
+  auto out = std::make_shared<RenderGeometry>(geo);
+  RenderGeometry& g = *out;
+  const vec3 o = g.origin;
+  for (size_t i = 0; i < scene.quads.size(); ++i) {
+    size_t t = g.quad_first_triangle + 2 * i;
+    if (t + 1 >= g.triangle_count()) break;
+    const Quad& q = scene.quads[i];
+    vec3 c = q.corner - o, a = c + q.edge1, b = c + q.edge2, d = c + q.edge1 + q.edge2;
+    vec3* v = &g.tri_vertices[3 * t];
+    v[0] = c, v[1] = a, v[2] = b, v[3] = d, v[4] = b, v[5] = a;
+  }
+  refit_trace_geometry(g.trace, g.tri_vertices, g.spheres);
+  return out;
+}
+
 SurfaceHit make_surface_hit(const RenderScene& rs, const Ray& ray, const Hit& hit) {
   const RenderGeometry& g = *rs.geo;
   SurfaceHit sh;

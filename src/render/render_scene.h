@@ -70,6 +70,10 @@ RenderScene make_render_scene(const Scene& scene, const BvhBuildOptions& bvh_opt
 /// must be those `geo` was built from): a material or camera edit costs no BVH rebuild.
 RenderScene make_render_scene(const Scene& scene, std::shared_ptr<const RenderGeometry> geo);
 
+/// Geometry with the quads of `scene` moved (same count as when `geo` was built), refitted, not rebuilt: what an
+/// interactive light-size or light-position edit costs.
+std::shared_ptr<const RenderGeometry> update_quads(const RenderGeometry& geo, const Scene& scene);
+
 /// A world-space ray in the render scene's (origin-shifted) frame, for callers outside the camera: tests, picking.
 inline Ray to_render_frame(const RenderScene& rs, Ray ray) {
   ray.org -= rs.geo->origin;

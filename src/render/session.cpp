@@ -1,0 +1,113 @@
+#include "render/session.h"
+
+#include <chrono>
+
+namespace pt {
+
+RenderSession::RenderSession(int threads) {
+  // The renderer (and its worker pool) lives on the driver thread; only its size is needed here.
+  thread_count_ = threads > 0 ? threads : int(std::max(1u, std::thread::hardware_concurrency()));
+  driver_ = std::jthread([this](std::stop_token st) { drive(st); });
+}
+
+RenderSession::~RenderSession() {
+  driver_.request_stop();
+  cancel_ = true;
+  wake_.notify_all();
+}
+
+uint64_t RenderSession::restart(std::shared_ptr<const RenderScene> scene, const RenderParams& params) {
+  uint64_t e;
+  {
+    std::lock_guard lock(mutex_);
+    scene_ = std::move(scene);
+    params_ = params;
+    e = ++epoch_;
+    cancel_ = true;
+  }
+  wake_.notify_all();
+  return e;
+}
+
+void RenderSession::set_paused(bool paused) {
+  paused_ = paused;
+  wake_.notify_all();
+}
+
+void RenderSession::set_target_spp(int spp) {
+  target_spp_ = spp;
+  wake_.notify_all();
+}
+
+bool RenderSession::fetch(SessionFrame& out) {
+  std::lock_guard lock(publish_mutex_);
+  if (published_.epoch == out.epoch && published_.frames == out.frames) return false;
+  if (published_.epoch < out.epoch) return false;
+  out.epoch = published_.epoch;
+  out.frames = published_.frames;
+  out.spp = published_.spp;
+  out.width = published_.width;
+  out.height = published_.height;
+  out.seconds = published_.seconds;
+  out.counters = published_.counters;
+  out.image.width = published_.image.width;
+  out.image.height = published_.image.height;
+  out.image.rgb.assign(published_.image.rgb.begin(), published_.image.rgb.end());
+  return true;
+}
+
+void RenderSession::drive(std::stop_token stop) {
+  using Clock = std::chrono::steady_clock;
+  std::unique_ptr<Renderer> renderer;
+  int renderer_threads = -1;
+  Film film;
+  uint64_t current = 0;
+  std::shared_ptr<const RenderScene> scene;
+  RenderParams params;
+  int frames = 0;
+  double seconds = 0.0;
+  RenderCounters counters;
+  while (!stop.stop_requested()) {
+    {
+      std::unique_lock lock(mutex_);
+      wake_.wait(lock, stop, [&] {
+        bool target_reached = target_spp_ > 0 && frames * params.spp_per_frame >= target_spp_ && epoch_ == current;
+        return scene_ && (epoch_ != current || (!paused_ && !target_reached));
+      });
+      if (stop.stop_requested()) break;
+      if (epoch_ != current) {
+        current = epoch_;
+        scene = scene_;
+        params = params_;
+        frames = 0;
+        seconds = 0.0;
+        counters = {};
+        film.reset(params.width, params.height);
+        if (renderer_threads != params.threads || !renderer) {
+          renderer = std::make_unique<Renderer>(params.threads);
+          renderer_threads = params.threads;
+        }
+      }
+      cancel_ = false;
+    }
+    RenderCounters frame_counters;
+    auto t0 = Clock::now();
+    bool complete = renderer->render_frame(*scene, params, film, uint32_t(frames), frame_counters, &cancel_);
+    if (!complete || epoch_ != current) continue;  // stale: the next loop starts the new epoch
+    seconds += std::chrono::duration<double>(Clock::now() - t0).count();
+    ++frames;
+    counters += frame_counters;
+    Image mean = film.resolve();
+    std::lock_guard lock(publish_mutex_);
+    published_.epoch = current;
+    published_.frames = frames;
+    published_.spp = frames * params.spp_per_frame;
+    published_.width = params.width;
+    published_.height = params.height;
+    published_.seconds = seconds;
+    published_.counters = counters;
+    published_.image = std::move(mean);
+  }
+}
+
+}  // namespace pt
