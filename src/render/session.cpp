@@ -41,10 +41,12 @@ void RenderSession::set_target_spp(int spp) {
 
 bool RenderSession::fetch(SessionFrame& out) {
   std::lock_guard lock(publish_mutex_);
-  if (published_.epoch == out.epoch && published_.frames == out.frames) return false;
+  if (published_.epoch == out.epoch && published_.frames == out.frames && published_.preview == out.preview)
+    return false;
   if (published_.epoch < out.epoch) return false;
   out.epoch = published_.epoch;
   out.frames = published_.frames;
+  out.preview = published_.preview;
   out.spp = published_.spp;
   out.width = published_.width;
   out.height = published_.height;
@@ -67,6 +69,19 @@ void RenderSession::drive(std::stop_token stop) {
   int frames = 0;
   double seconds = 0.0;
   RenderCounters counters;
+  bool need_preview = false;
+  auto publish = [&](Image image, bool preview, int w, int h) {
+    std::lock_guard lock(publish_mutex_);
+    published_.epoch = current;
+    published_.preview = preview;
+    published_.frames = frames;
+    published_.spp = frames * params.spp_per_frame;
+    published_.width = w;
+    published_.height = h;
+    published_.seconds = seconds;
+    published_.counters = counters;
+    published_.image = std::move(image);
+  };
   while (!stop.stop_requested()) {
     {
       std::unique_lock lock(mutex_);
@@ -83,6 +98,7 @@ void RenderSession::drive(std::stop_token stop) {
         seconds = 0.0;
         counters = {};
         film.reset(params.width, params.height);
+        need_preview = preview_div_ > 1;
         if (renderer_threads != params.threads || !renderer) {
           renderer = std::make_unique<Renderer>(params.threads);
           renderer_threads = params.threads;
@@ -91,22 +107,25 @@ void RenderSession::drive(std::stop_token stop) {
       cancel_ = false;
     }
     RenderCounters frame_counters;
+    if (need_preview) {
+      RenderParams p = params;
+      p.width = std::max(1, params.width / preview_div_);
+      p.height = std::max(1, params.height / preview_div_);
+      p.spp_per_frame = 1;
+      Film small(p.width, p.height);
+      bool done = renderer->render_frame(*scene, p, small, 0, frame_counters, &cancel_);
+      if (!done || epoch_ != current) continue;
+      need_preview = false;
+      publish(small.resolve(), true, p.width, p.height);
+      continue;
+    }
     auto t0 = Clock::now();
     bool complete = renderer->render_frame(*scene, params, film, uint32_t(frames), frame_counters, &cancel_);
     if (!complete || epoch_ != current) continue;  // stale: the next loop starts the new epoch
     seconds += std::chrono::duration<double>(Clock::now() - t0).count();
     ++frames;
     counters += frame_counters;
-    Image mean = film.resolve();
-    std::lock_guard lock(publish_mutex_);
-    published_.epoch = current;
-    published_.frames = frames;
-    published_.spp = frames * params.spp_per_frame;
-    published_.width = params.width;
-    published_.height = params.height;
-    published_.seconds = seconds;
-    published_.counters = counters;
-    published_.image = std::move(mean);
+    publish(film.resolve(), false, params.width, params.height);
   }
 }
 

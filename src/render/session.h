@@ -16,7 +16,8 @@ namespace pt {
 /// What the driver publishes after each completed frame.
 struct SessionFrame {
   uint64_t epoch = 0;
-  int frames = 0;           ///< frames completed in this epoch
+  bool preview = false;     ///< the quick low-resolution first look at a new epoch (its samples are not kept)
+  int frames = 0;           ///< full-resolution frames completed in this epoch
   int spp = 0;
   int width = 0, height = 0;
   double seconds = 0.0;     ///< render time in this epoch
@@ -38,6 +39,9 @@ class RenderSession {
   bool paused() const { return paused_.load(); }
   /// Stop after this many samples per pixel (0: never).
   void set_target_spp(int spp);
+  /// Every epoch first renders and publishes one frame at 1/divisor resolution, so an edit shows within a few
+  /// milliseconds even when a full frame takes much longer (1: off).
+  void set_preview_divisor(int divisor) { preview_div_ = std::max(1, divisor); }
   uint64_t epoch() const { return epoch_.load(); }
   int thread_count() const { return thread_count_; }
 
@@ -56,6 +60,7 @@ class RenderSession {
   std::atomic<bool> cancel_{false};
   std::atomic<bool> paused_{false};
   std::atomic<int> target_spp_{0};
+  std::atomic<int> preview_div_{1};
   int thread_count_ = 1;
 
   std::mutex publish_mutex_;

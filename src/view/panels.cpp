@@ -156,7 +156,7 @@ void stats_panel(const ViewerState& st) {
   const SessionFrame& f = st.frame;
   double sps = f.seconds > 0 ? f.spp / f.seconds : 0.0;
   double mrays = f.seconds > 0 ? double(f.counters.rays()) / f.seconds * 1e-6 : 0.0;
-  ImGui::Text("%d x %d%s", f.width, f.height, st.previewing ? "  (preview while moving)" : "");
+  ImGui::Text("%d x %d%s", f.width, f.height, f.preview ? "  (preview)" : "");
   ImGui::Text("spp %d   %.1f spp/s   %.2f Mrays/s", f.spp, sps, mrays);
   ImGui::Text("elapsed %.1f s   threads %d", f.seconds, st.session->thread_count());
   ImGui::Text("non-finite samples %llu", (unsigned long long)f.counters.nonfinite_samples);

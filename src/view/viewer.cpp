@@ -61,8 +61,7 @@ void step_script(ScriptRunner& sr, ViewerState& st, std::string& screenshot_requ
     const ScriptCommand& c = sr.commands[sr.next];
     auto num = [&](size_t i) { return std::stof(c.args[i]); };
     if (c.name == "wait-frames") {
-      if (st.loading.valid() || st.frame.epoch != st.session->epoch() || st.previewing ||
-          st.frame.frames < int(num(0)))
+      if (st.loading.valid() || st.frame.epoch != st.session->epoch() || st.frame.frames < int(num(0)))
         return;
     } else if (c.name == "wait-ms") {
       if (!sr.waiting_ms) {
@@ -319,12 +318,7 @@ int run_viewer(const RenderParams& params, const DisplaySettings& display, const
         st.restart();
       }
     }
-    if (camera_moved) {
-      st.last_motion = now;
-      st.restart(true);
-    } else if (st.previewing && now - st.last_motion > std::chrono::milliseconds(120)) {
-      st.restart(false);  // refine at full resolution once the camera rests
-    }
+    if (camera_moved) st.restart();
 
     std::string screenshot_request;
     if (!script.done()) step_script(script, st, screenshot_request);
@@ -337,10 +331,10 @@ int run_viewer(const RenderParams& params, const DisplaySettings& display, const
         st.restart_latency_ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - it->second).count());
         st.restart_started.erase(it);
       }
-      if (!st.previewing && st.frame.frames > 0 && st.frame.seconds > 0)
+      if (!st.frame.preview && st.frame.frames > 0 && st.frame.seconds > 0)
         st.full_res_frame_seconds = st.frame.seconds / st.frame.frames;
-      if (st.full_res_frame_seconds > 0)  // preview frames should take about 1/30 s
-        st.preview_div = std::clamp(int(std::ceil(std::sqrt(st.full_res_frame_seconds / 0.033))), 1, 8);
+      if (st.full_res_frame_seconds > 0)  // preview frames should take about 10 ms
+        st.preview_div = std::clamp(int(std::ceil(std::sqrt(st.full_res_frame_seconds / 0.010))), 1, 8);
     }
 
     ImGui_ImplOpenGL3_NewFrame();
@@ -363,7 +357,7 @@ int run_viewer(const RenderParams& params, const DisplaySettings& display, const
       }
     }
     bool quit = script.quit;
-    if (hooks.quit_after_frames && script.done() && !st.loading.valid() && !st.previewing &&
+    if (hooks.quit_after_frames && script.done() && !st.loading.valid() &&
         st.frame.epoch == st.session->epoch() && st.frame.frames >= *hooks.quit_after_frames)
       quit = true;
     if (quit && !hooks.screenshot.empty()) {

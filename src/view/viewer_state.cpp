@@ -8,16 +8,11 @@
 
 namespace pt {
 
-void ViewerState::restart(bool moving) {
+void ViewerState::restart() {
   auto rs = std::make_shared<RenderScene>(make_render_scene(scene, geo));
-  RenderParams p = params;
-  previewing = moving && preview_div > 1;
-  if (previewing) {
-    p.width = std::max(1, params.width / preview_div);
-    p.height = std::max(1, params.height / preview_div);
-  }
   render_scene = rs;
-  uint64_t e = session->restart(rs, p);
+  session->set_preview_divisor(preview_div);
+  uint64_t e = session->restart(rs, params);
   restart_started[e] = Clock::now();
   while (restart_started.size() > 64) restart_started.erase(restart_started.begin());
 }

@@ -35,9 +35,7 @@ struct ViewerState {
   std::unique_ptr<RenderSession> session;
   SessionFrame frame;          ///< latest frame shown
   int selected_material = -1;
-  int preview_div = 4;         ///< resolution divisor while the camera moves
-  bool previewing = false;
-  Clock::time_point last_motion;
+  int preview_div = 4;         ///< first frame of every restart at this fraction of the resolution
   double full_res_frame_seconds = 0.0;
 
   // Measurements.
@@ -53,8 +51,9 @@ struct ViewerState {
   std::string status;          ///< last message shown in the Scene panel
   std::vector<std::future<std::optional<Error>>> saves;
 
-  /// Restarts accumulation with the current scene, camera, materials and parameters.
-  void restart(bool moving = false);
+  /// Restarts accumulation with the current scene, camera, materials and parameters. The session shows a
+  /// reduced-resolution first frame at once, so a camera drag (one restart per UI frame) stays fluid.
+  void restart();
   /// Starts loading a scene file in the background; the current scene stays interactive.
   void start_load(const std::string& path);
   /// Swaps in a finished load, if any. Returns true if a new scene was installed.
