@@ -168,7 +168,7 @@ int run_viewer(const RenderParams& params, const DisplaySettings& display, const
   glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
   glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
   glfwWindowHint(GLFW_SCALE_TO_MONITOR, GLFW_TRUE);
-  int win_w = std::min(params.width, 1600) + kPanelWidth, win_h = std::max(std::min(params.height, 1200), 640);
+  int win_w = std::min(params.width, 1600) + kPanelWidth, win_h = std::max(std::min(params.height, 1200), 760);
   GLFWwindow* window = glfwCreateWindow(win_w, win_h, "ptview", nullptr, nullptr);
   if (!window) {
     std::fprintf(stderr, "ptview: error: cannot open an OpenGL 3.3 window; render headless with --frames N\n");
