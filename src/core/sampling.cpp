@@ -64,42 +64,46 @@ vec3 sample_uniform_triangle(vec2 u) {
 
 bool make_spherical_rectangle(vec3 ref, vec3 corner, vec3 ex, vec3 ey, SphericalRectangle& sr) {
   sr = SphericalRectangle{};
-  float ex_len = glm::length(ex), ey_len = glm::length(ey);
-  if (!(ex_len > 0.0f) || !(ey_len > 0.0f)) return false;
-  sr.o = ref;
-  sr.x = ex / ex_len;
-  sr.y = ey / ey_len;
-  sr.z = glm::cross(sr.x, sr.y);
-  vec3 d = corner - ref;
-  sr.z0 = glm::dot(d, sr.z);
-  if (sr.z0 > 0.0f) {  // make z point away from the rectangle plane
-    sr.z = -sr.z;
-    sr.z0 = -sr.z0;
+  // Double precision: the solid angle is a small difference of angles near pi, which float loses for small or
+  // grazing rectangles.
+  dvec3 dex(ex), dey(ey);
+  double ex_len = glm::length(dex), ey_len = glm::length(dey);
+  if (!(ex_len > 0.0) || !(ey_len > 0.0)) return false;
+  dvec3 x = dex / ex_len, y = dey / ey_len, z = glm::cross(x, y);
+  dvec3 d = dvec3(corner) - dvec3(ref);
+  double z0 = glm::dot(d, z);
+  if (z0 > 0.0) {  // make z point away from the rectangle plane
+    z = -z;
+    z0 = -z0;
   }
-  if (!(sr.z0 < 0.0f)) return false;  // ref in the plane
-  sr.x0 = glm::dot(d, sr.x);
-  sr.y0 = glm::dot(d, sr.y);
-  sr.x1 = sr.x0 + ex_len;
-  sr.y1 = sr.y0 + ey_len;
+  if (!(z0 < 0.0)) return false;  // ref in the plane
+  double x0 = glm::dot(d, x), y0 = glm::dot(d, y), x1 = x0 + ex_len, y1 = y0 + ey_len;
   // Corner vectors and the normals of the four planes through ref and each edge.
-  vec3 v00(sr.x0, sr.y0, sr.z0), v01(sr.x0, sr.y1, sr.z0), v10(sr.x1, sr.y0, sr.z0), v11(sr.x1, sr.y1, sr.z0);
-  vec3 n0 = glm::normalize(glm::cross(v00, v10));
-  vec3 n1 = glm::normalize(glm::cross(v10, v11));
-  vec3 n2 = glm::normalize(glm::cross(v11, v01));
-  vec3 n3 = glm::normalize(glm::cross(v01, v00));
-  float g0 = safe_acos(-glm::dot(n0, n1));
-  float g1 = safe_acos(-glm::dot(n1, n2));
-  float g2 = safe_acos(-glm::dot(n2, n3));
-  float g3 = safe_acos(-glm::dot(n3, n0));
-  sr.b0 = n0.z;
-  sr.b1 = n2.z;
-  sr.k = kTwoPi - g2 - g3;
-  sr.solid_angle = g0 + g1 - sr.k;
-  if (!(sr.solid_angle > 0.0f) || !std::isfinite(sr.solid_angle)) {
-    sr.solid_angle = 0.0f;
-    return false;
-  }
-  return true;
+  dvec3 v00(x0, y0, z0), v01(x0, y1, z0), v10(x1, y0, z0), v11(x1, y1, z0);
+  dvec3 n0 = glm::normalize(glm::cross(v00, v10));
+  dvec3 n1 = glm::normalize(glm::cross(v10, v11));
+  dvec3 n2 = glm::normalize(glm::cross(v11, v01));
+  dvec3 n3 = glm::normalize(glm::cross(v01, v00));
+  auto angle = [](double c) { return std::acos(std::clamp(c, -1.0, 1.0)); };
+  double g0 = angle(-glm::dot(n0, n1)), g1 = angle(-glm::dot(n1, n2));
+  double g2 = angle(-glm::dot(n2, n3)), g3 = angle(-glm::dot(n3, n0));
+  double k = 2.0 * 3.14159265358979323846 - g2 - g3;
+  double solid_angle = g0 + g1 - k;
+  if (!(solid_angle > 0.0) || !std::isfinite(solid_angle)) return false;
+  sr.o = ref;
+  sr.x = vec3(x);
+  sr.y = vec3(y);
+  sr.z = vec3(z);
+  sr.z0 = float(z0);
+  sr.x0 = float(x0);
+  sr.y0 = float(y0);
+  sr.x1 = float(x1);
+  sr.y1 = float(y1);
+  sr.b0 = float(n0.z);
+  sr.b1 = float(n2.z);
+  sr.k = float(k);
+  sr.solid_angle = float(solid_angle);
+  return sr.solid_angle > 0.0f;
 }
 
 vec3 sample_spherical_rectangle(const SphericalRectangle& sr, vec2 u) {

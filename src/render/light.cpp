@@ -71,9 +71,15 @@ bool finish_planar(const Light& light, vec3 ref, vec3 p, vec3 p_error, LightSamp
   return cos_light > 0.0f;
 }
 
+/// Solid-angle sampling pays off only between these bounds; outside them float precision (tiny or grazing
+/// rectangles) or the near-hemisphere case make uniform area sampling the better choice (pbrt-v4 uses the same
+/// thresholds, MinSphericalSampleArea and MaxSphericalSampleArea, for triangles and bilinear patches).
+constexpr float kMinSolidAngle = 3e-4f;
+constexpr float kMaxSolidAngle = 6.22f;
+
 bool rect_solid_angle_usable(const Light& light, vec3 ref, SphericalRectangle& sr) {
   return light.rectangular && make_spherical_rectangle(ref, light.p0, light.e1, light.e2, sr) &&
-         sr.solid_angle > 1e-7f;
+         sr.solid_angle >= kMinSolidAngle && sr.solid_angle <= kMaxSolidAngle;
 }
 
 bool sample_sphere(const Light& light, vec3 ref, vec2 u, LightSample& out) {
