@@ -44,6 +44,18 @@ bool for_each_line(std::string_view text, F&& fn) {
   return true;
 }
 
+/// `line` without its comment: from a '#' that starts the line or follows a space or tab, to the end. Returns an
+/// empty view for blank and comment-only lines.
+inline std::string_view strip_comment(std::string_view line) {
+  for (size_t i = 0; i < line.size(); ++i)
+    if (line[i] == '#' && (i == 0 || line[i - 1] == ' ' || line[i - 1] == '\t')) {
+      line = line.substr(0, i);
+      break;
+    }
+  size_t start = line.find_first_not_of(" \t");
+  return start == std::string_view::npos ? std::string_view() : line.substr(start);
+}
+
 /// Splits `line` at spaces and tabs into at most `max_parts` words (the last keeps the rest of the line); returns
 /// the count. A fixed array avoids a heap allocation per line when reading million-line files.
 inline size_t split_words(std::string_view line, std::string_view* parts, size_t max_parts) {
