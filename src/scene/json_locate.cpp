@@ -6,89 +6,138 @@ namespace pt {
 
 namespace {
 
-/// A minimal, forgiving JSON walker: it only needs to skip values and match keys in text nlohmann has already
-/// accepted as valid.
-struct Walker {
+/// Appends the UTF-8 encoding of code point `cp`.
+void append_utf8(std::string& out, uint32_t cp) {
+  if (cp < 0x80) {
+    out += char(cp);
+  } else if (cp < 0x800) {
+    out += char(0xC0 | (cp >> 6));
+    out += char(0x80 | (cp & 0x3F));
+  } else if (cp < 0x10000) {
+    out += char(0xE0 | (cp >> 12));
+    out += char(0x80 | ((cp >> 6) & 0x3F));
+    out += char(0x80 | (cp & 0x3F));
+  } else {
+    out += char(0xF0 | (cp >> 18));
+    out += char(0x80 | ((cp >> 12) & 0x3F));
+    out += char(0x80 | ((cp >> 6) & 0x3F));
+    out += char(0x80 | (cp & 0x3F));
+  }
+}
+
+/// A cursor over JSON text that counts lines as it goes.
+struct Cursor {
   std::string_view t;
   size_t i = 0;
   int line = 1;
 
   bool done() const { return i >= t.size(); }
+  char peek() const { return t[i]; }
   void skip_ws() {
-    while (!done() && (t[i] == ' ' || t[i] == '\t' || t[i] == '\r' || t[i] == '\n')) {
-      if (t[i] == '\n') ++line;
-      ++i;
+    for (; !done(); ++i) {
+      char c = t[i];
+      if (c == '\n') ++line;
+      else if (c != ' ' && c != '\t' && c != '\r') break;
     }
   }
-  /// Reads a string starting at the quote; returns its raw contents (escapes kept, which is enough for keys).
-  std::string_view string() {
-    size_t start = ++i;
-    while (!done() && t[i] != '"') {
-      if (t[i] == '\\') ++i;
-      else if (t[i] == '\n') ++line;
-      ++i;
-    }
-    std::string_view s = t.substr(start, std::min(i, t.size()) - start);
+  /// At a '"': moves past the string and returns it decoded (escapes resolved, as a parser would give the key).
+  std::string string() {
+    std::string s;
     ++i;
+    while (!done() && t[i] != '"') {
+      if (t[i] != '\\') {
+        if (t[i] == '\n') ++line;  // invalid JSON, but keep the count right
+        s += t[i++];
+        continue;
+      }
+      if (++i >= t.size()) break;
+      char e = t[i++];
+      switch (e) {
+        case 'b': s += '\b'; break;
+        case 'f': s += '\f'; break;
+        case 'n': s += '\n'; break;
+        case 'r': s += '\r'; break;
+        case 't': s += '\t'; break;
+        case 'u': {
+          uint32_t cp = hex4();
+          if (cp >= 0xD800 && cp < 0xDC00 && i + 1 < t.size() && t[i] == '\\' && t[i + 1] == 'u') {
+            i += 2;
+            uint32_t low = hex4();
+            cp = 0x10000 + ((cp - 0xD800) << 10) + (low - 0xDC00);
+          }
+          append_utf8(s, cp);
+          break;
+        }
+        default: s += e;  // \" \\ \/
+      }
+    }
+    ++i;  // the closing quote
     return s;
   }
-  void skip_value() {
-    skip_ws();
-    if (done()) return;
-    char c = t[i];
-    if (c == '"') {
-      string();
-    } else if (c == '{' || c == '[') {
-      char close = c == '{' ? '}' : ']';
-      ++i;
-      for (;;) {
-        skip_ws();
-        if (done()) return;
-        if (t[i] == close) { ++i; return; }
-        if (t[i] == ',') { ++i; continue; }
-        if (close == '}') {
-          if (t[i] == '"') string();
-          skip_ws();
-          if (!done() && t[i] == ':') ++i;
-        }
-        skip_value();
-      }
-    } else {
-      while (!done() && t[i] != ',' && t[i] != '}' && t[i] != ']' && t[i] != ' ' && t[i] != '\n' && t[i] != '\t' &&
-             t[i] != '\r')
-        ++i;
-    }
+  uint32_t hex4() {
+    uint32_t v = 0;
+    size_t end = std::min(i + 4, t.size());
+    std::from_chars(t.data() + i, t.data() + end, v, 16);
+    i = end;
+    return v;
   }
-  /// Positions at the value of `key` in the object starting here; false if absent.
-  bool enter_key(std::string_view key) {
+  /// Moves past one value (of any depth, without recursion).
+  void skip_value() {
+    int depth = 0;
+    do {
+      skip_ws();
+      if (done()) return;
+      char c = t[i];
+      if (c == '"') {
+        string();
+      } else if (c == '{' || c == '[') {
+        ++depth;
+        ++i;
+      } else if (c == '}' || c == ']') {
+        --depth;
+        ++i;
+      } else if (c == ',' || c == ':') {
+        ++i;
+      } else {  // number, true, false, null
+        while (!done() && std::string_view(",:{}[] \t\r\n\"").find(t[i]) == std::string_view::npos) ++i;
+      }
+    } while (depth > 0);
+  }
+  /// At an object: moves to the value of `key` and returns true, or returns false.
+  bool enter_key(const std::string& key) {
     skip_ws();
-    if (done() || t[i] != '{') return false;
+    if (done() || peek() != '{') return false;
     ++i;
     for (;;) {
       skip_ws();
-      if (done() || t[i] == '}') return false;
-      if (t[i] == ',') { ++i; continue; }
-      if (t[i] != '"') return false;
-      std::string_view k = string();
+      if (done() || peek() == '}') return false;
+      if (peek() == ',') {
+        ++i;
+        continue;
+      }
+      if (peek() != '"') return false;
+      bool match = string() == key;
       skip_ws();
-      if (!done() && t[i] == ':') ++i;
+      if (done() || peek() != ':') return false;
+      ++i;
       skip_ws();
-      if (k == key) return true;
+      if (match) return true;
       skip_value();
     }
   }
+  /// At an array: moves to element `index` and returns true, or returns false.
   bool enter_index(size_t index) {
     skip_ws();
-    if (done() || t[i] != '[') return false;
+    if (done() || peek() != '[') return false;
     ++i;
-    size_t n = 0;
-    for (;;) {
+    for (size_t n = 0;; ++n) {
       skip_ws();
-      if (done() || t[i] == ']') return false;
-      if (t[i] == ',') { ++i; continue; }
+      if (done() || peek() == ']') return false;
       if (n == index) return true;
       skip_value();
-      ++n;
+      skip_ws();
+      if (done() || peek() != ',') return false;
+      ++i;
     }
   }
 };
@@ -96,22 +145,38 @@ struct Walker {
 }  // namespace
 
 int json_line_of(std::string_view text, const std::vector<std::string>& path) {
-  Walker w{text};
-  w.skip_ws();
-  int best = w.line;
+  Cursor c{text};
+  if (text.starts_with("\xEF\xBB\xBF")) c.i = 3;
+  c.skip_ws();
+  int best = c.line;
   for (const std::string& part : path) {
-    Walker saved = w;
+    if (c.done()) break;
+    bool found = false;
     size_t index = 0;
-    auto [ptr, ec] = std::from_chars(part.data(), part.data() + part.size(), index);
-    bool is_index = ec == std::errc() && ptr == part.data() + part.size();
-    w.skip_ws();
-    bool found = (!w.done() && w.t[w.i] == '[' && is_index) ? w.enter_index(index) : w.enter_key(part);
-    if (!found) return best;
-    w.skip_ws();
-    best = w.line;
-    (void)saved;
+    auto [end, ec] = std::from_chars(part.data(), part.data() + part.size(), index);
+    if (c.peek() == '[' && ec == std::errc() && end == part.data() + part.size()) found = c.enter_index(index);
+    else if (c.peek() == '{') found = c.enter_key(part);
+    if (!found) break;
+    best = c.line;
   }
   return best;
+}
+
+int json_line_of_token(std::string_view text, std::string_view token) {
+  if (token.empty()) return 0;
+  Cursor c{text};
+  while (!c.done()) {
+    char ch = c.peek();
+    if (ch == '"') {
+      c.string();
+    } else if (text.substr(c.i).starts_with(token)) {
+      return c.line;
+    } else {
+      if (ch == '\n') ++c.line;
+      ++c.i;
+    }
+  }
+  return 0;
 }
 
 }  // namespace pt

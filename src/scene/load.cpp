@@ -1,9 +1,10 @@
+/// Scene loading entry points: dispatch on the file's extension, built-in scenes, and the helpers every loader
+/// shares (file reading, material interning).
 #include <sys/stat.h>
 
 #include <cerrno>
 #include <cstring>
 #include <fstream>
-#include <sstream>
 
 #include "scene/builtin_assets.h"
 #include "scene/load.h"
@@ -13,6 +14,9 @@ namespace pt {
 
 namespace {
 
+constexpr std::string_view kBuiltinPrefix = "builtin:";
+
+/// The extension of the last path component, lower-case, with its dot ("" when there is none).
 std::string lower_extension(const std::string& path) {
   size_t dot = path.find_last_of('.');
   size_t slash = path.find_last_of('/');
@@ -22,6 +26,10 @@ std::string lower_extension(const std::string& path) {
   return ext;
 }
 
+bool same_parameters(const Material& a, const Material& b) {
+  return a.type == b.type && a.albedo == b.albedo && a.ior == b.ior && a.emission == b.emission;
+}
+
 }  // namespace
 
 Result<std::string> read_text_file(const std::string& path) {
@@ -29,14 +37,31 @@ Result<std::string> read_text_file(const std::string& path) {
   if (::stat(path.c_str(), &st) != 0) return Error{path + ": cannot open: " + std::strerror(errno)};
   if (S_ISDIR(st.st_mode)) return Error{path + ": cannot open: is a directory"};
   if (!S_ISREG(st.st_mode)) return Error{path + ": cannot open: not a regular file"};
-  if (st.st_size > (off_t(1) << 31)) return Error{path + ": file too large (over 2 GiB)"};
+  if (st.st_size > (off_t(1) << 31)) return Error{path + ": cannot open: larger than 2 GiB"};
   std::ifstream f(path, std::ios::binary);
   if (!f) return Error{path + ": cannot open: " + std::strerror(errno)};
-  std::string text(size_t(st.st_size), '\0');
-  f.read(text.data(), std::streamsize(text.size()));
-  if (!f && !f.eof()) return Error{path + ": read failed"};
-  text.resize(size_t(f.gcount()));
-  return text;
+  try {
+    std::string text(size_t(st.st_size), '\0');
+    f.read(text.data(), std::streamsize(text.size()));
+    if (f.bad()) return Error{path + ": read error"};
+    text.resize(size_t(f.gcount()));  // the file may have shrunk since stat
+    return text;
+  } catch (const std::bad_alloc&) {
+    return Error{path + ": out of memory"};
+  }
+}
+
+uint32_t add_material(Scene& scene, Material m) {
+  std::string base = m.name;
+  for (int suffix = 2;; ++suffix) {
+    auto same_name = std::find_if(scene.materials.begin(), scene.materials.end(),
+                                  [&](const Material& other) { return other.name == m.name; });
+    if (same_name == scene.materials.end()) break;
+    if (same_parameters(*same_name, m)) return uint32_t(same_name - scene.materials.begin());
+    m.name = base + "#" + std::to_string(suffix);
+  }
+  scene.materials.push_back(std::move(m));
+  return uint32_t(scene.materials.size() - 1);
 }
 
 Result<Scene> load_obj_scene(const std::string& path) {
@@ -49,19 +74,20 @@ Result<Scene> load_obj_scene(const std::string& path) {
 }
 
 Result<Scene> load_builtin_scene(std::string_view name) {
+  std::string source = std::string(kBuiltinPrefix) + std::string(name);
   for (const BuiltinAsset& a : builtin_assets()) {
     if (name != a.name) continue;
-    Result<Scene> scene = parse_json_scene(a.json, "builtin:" + std::string(name));
+    Result<Scene> scene = parse_json_scene(a.json, source);
     if (scene) finalize_scene(*scene);
     return scene;
   }
   std::string known;
   for (const BuiltinAsset& a : builtin_assets()) known += std::string(known.empty() ? "" : ", ") + a.name;
-  return Error{"builtin:" + std::string(name) + ": no such built-in scene (known: " + known + ")"};
+  return Error{source + ": no such built-in scene (known: " + known + ")"};
 }
 
 Result<Scene> load_scene(const std::string& path) {
-  if (path.rfind("builtin:", 0) == 0) return load_builtin_scene(std::string_view(path).substr(8));
+  if (path.starts_with(kBuiltinPrefix)) return load_builtin_scene(std::string_view(path).substr(kBuiltinPrefix.size()));
   std::string ext = lower_extension(path);
   Result<Scene> scene = Error{""};
   if (ext == ".json") {
@@ -73,7 +99,8 @@ Result<Scene> load_scene(const std::string& path) {
   } else {
     struct stat st;
     if (::stat(path.c_str(), &st) != 0) return Error{path + ": cannot open: " + std::strerror(errno)};
-    return Error{path + ": unsupported scene type '" + ext + "' (expected .obj or .json)"};
+    return Error{path + ": unsupported scene type " + (ext.empty() ? std::string("(no extension)") : "'" + ext + "'") +
+                 " (expected .obj or .json)"};
   }
   if (scene) finalize_scene(*scene);
   return scene;

@@ -44,16 +44,20 @@ bool for_each_line(std::string_view text, F&& fn) {
   return true;
 }
 
-/// `line` without its comment: from a '#' that starts the line or follows a space or tab, to the end. Returns an
-/// empty view for blank and comment-only lines.
+/// Where the comment of an OBJ/MTL line starts: the first '#' that begins the line or follows a space or tab
+/// (so "newmtl a#1" keeps its name), or npos.
+inline size_t comment_start(std::string_view line) {
+  for (size_t i = line.find('#'); i != std::string_view::npos; i = line.find('#', i + 1))
+    if (i == 0 || line[i - 1] == ' ' || line[i - 1] == '\t') return i;
+  return std::string_view::npos;
+}
+
+/// `line` without its comment and surrounding blanks; empty for blank and comment-only lines.
 inline std::string_view strip_comment(std::string_view line) {
-  for (size_t i = 0; i < line.size(); ++i)
-    if (line[i] == '#' && (i == 0 || line[i - 1] == ' ' || line[i - 1] == '\t')) {
-      line = line.substr(0, i);
-      break;
-    }
-  size_t start = line.find_first_not_of(" \t");
-  return start == std::string_view::npos ? std::string_view() : line.substr(start);
+  line = line.substr(0, comment_start(line));
+  size_t first = line.find_first_not_of(" \t");
+  if (first == std::string_view::npos) return {};
+  return line.substr(first, line.find_last_not_of(" \t") + 1 - first);
 }
 
 /// Splits `line` at spaces and tabs into at most `max_parts` words (the last keeps the rest of the line); returns

@@ -1,127 +1,109 @@
-/// Wavefront OBJ/MTL via tinyobjloader, after our own line-by-line validation so every error names its line.
+/// Wavefront OBJ (with MTL materials) as a triangle mesh.
 ///
-/// MTL mapping (README "OBJ / MTL mapping"):
-///   Kd -> diffuse albedo; Ke -> emission;
-///   illum 4/6/7, or d < 1 / Tr > 0 -> glass with ior = Ni (1.5 when Ni is absent or 1);
-///   illum 3/5, or Ks dominant over Kd with Ns >= 500 -> mirror (specular) with albedo Ks;
-///   faces without a material, or a missing .mtl (a warning) -> diffuse 0.8.
-/// Shading normals from vn where every corner of a face has one; polygons are triangulated by tinyobjloader.
+/// OBJ / MTL mapping (README "OBJ / MTL mapping"; material_from_mtl in mtl.h applies it):
+///   Kd -> diffuse albedo (0.8 grey when absent); Ke -> emission (front side: counter-clockwise winding);
+///   illum 3 or 5, or Ks dominant over Kd with Ns >= 500 -> mirror (specular) with albedo Ks;
+///   illum 4, 6 or 7, or d < 1 / Tr > 0 -> glass with ior = Ni (1.5 when Ni is absent or <= 0);
+///   an explicit illum 3/5/4/6/7 decides before d/Tr, and transparency before Ks dominance.
+///   Faces without a material, with a material no library defines, or whose .mtl is missing or unreadable (a
+///   warning), get diffuse 0.8 grey ("default"). Materials are named as in the MTL; only those some face uses are
+///   added to the scene, and a name already taken by a different material gets a "#2"-style suffix.
+/// Geometry: shading normals from vn where a face gives them for all its corners (faces that do not get their flat
+/// normal when others do); polygons are triangulated keeping their winding (polygon.h); zero-area triangles are
+/// dropped with one warning giving their count and the line of the first.
+///
+/// tinyobjloader parses the file, after our own validation pass (obj_scan.h) so that every error carries its line:
+/// tinyobjloader reads "v 1 abc" as zeros and skips out-of-range faces. The MTL is parsed by mtl.cpp for the same
+/// reason. Errors: "FILE:LINE: reason", or "FILE: reason" ("cannot open", "no triangles").
 #include <tiny_obj_loader.h>
 
-#include <charconv>
 #include <filesystem>
-#include <map>
-#include <sstream>
+#include <istream>
+#include <streambuf>
+#include <unordered_map>
 
 #include "scene/load_internal.h"
+#include "scene/mtl.h"
+#include "scene/obj_scan.h"
+#include "scene/polygon.h"
 
 namespace pt {
 
 namespace {
 
-bool parse_float(std::string_view s, float& out) {
-  if (s.empty()) return false;
-  if (s.front() == '+') s.remove_prefix(1);
-  auto [ptr, ec] = std::from_chars(s.data(), s.data() + s.size(), out);
-  return ec == std::errc() && ptr == s.data() + s.size() && std::isfinite(out);
-}
-
-bool parse_int(std::string_view s, long long& out) {
-  if (s.empty()) return false;
-  if (s.front() == '+') s.remove_prefix(1);
-  auto [ptr, ec] = std::from_chars(s.data(), s.data() + s.size(), out);
-  return ec == std::errc() && ptr == s.data() + s.size();
-}
-
-std::vector<std::string_view> split_ws(std::string_view line) {
-  std::vector<std::string_view> parts;
-  size_t i = 0;
-  while (i < line.size()) {
-    while (i < line.size() && (line[i] == ' ' || line[i] == '\t')) ++i;
-    size_t start = i;
-    while (i < line.size() && line[i] != ' ' && line[i] != '\t') ++i;
-    if (i > start) parts.push_back(line.substr(start, i - start));
+/// A read-only istream over memory, so tinyobjloader reads the text without another copy of the file.
+struct MemoryBuffer : std::streambuf {
+  explicit MemoryBuffer(std::string_view text) {
+    char* p = const_cast<char*>(text.data());  // the get area is never written through
+    setg(p, p, p + text.size());
   }
-  return parts;
-}
+};
 
-/// Checks the statements tinyobjloader would accept silently (it reads "v a b c" as zeros and does not check
-/// face indices). Returns an error "PATH:LINE: reason" or an empty string.
-std::string validate_obj(const std::string& path, std::string_view text) {
-  long long counts[3] = {0, 0, 0};  // v, vt, vn
-  size_t faces = 0;
-  int line_no = 0;
-  size_t pos = 0;
-  auto fail = [&](const std::string& why) { return path + ":" + std::to_string(line_no) + ": " + why; };
-  while (pos <= text.size()) {
-    size_t end = text.find('\n', pos);
-    if (end == std::string_view::npos) end = text.size();
-    std::string_view line = text.substr(pos, end - pos);
-    pos = end + 1;
-    ++line_no;
-    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
-    if (line.find('\0') != std::string_view::npos) return fail("binary data in a text file");
-    if (size_t hash = line.find('#'); hash != std::string_view::npos) line = line.substr(0, hash);
-    std::vector<std::string_view> parts = split_ws(line);
-    if (parts.empty()) continue;
-    std::string_view kw = parts[0];
-    if (kw == "v" || kw == "vn" || kw == "vt") {
-      size_t need = kw == "vt" ? 1 : 3;
-      if (parts.size() - 1 < need)
-        return fail("'" + std::string(kw) + "' needs " + std::to_string(need) + " numbers");
-      for (size_t k = 1; k < parts.size() && k <= (kw == "v" ? 6u : 3u); ++k) {
-        float v;
-        if (!parse_float(parts[k], v))
-          return fail("'" + std::string(kw) + "': '" + std::string(parts[k]) + "' is not a finite number");
-      }
-      ++counts[kw == "v" ? 0 : kw == "vt" ? 1 : 2];
-    } else if (kw == "f") {
-      if (parts.size() < 4) return fail("a face needs at least 3 vertices");
-      for (size_t k = 1; k < parts.size(); ++k) {
-        std::string_view ref = parts[k];
-        for (int slot = 0; slot < 3 && !ref.empty(); ++slot) {
-          size_t slash = ref.find('/');
-          std::string_view idx = ref.substr(0, slash);
-          ref = slash == std::string_view::npos ? std::string_view() : ref.substr(slash + 1);
-          if (idx.empty() && slot > 0) continue;  // "v//vn"
-          long long i;
-          if (!parse_int(idx, i)) return fail("face index '" + std::string(idx) + "' is not an integer");
-          const char* what[3] = {"vertex", "texture coordinate", "normal"};
-          if (i == 0) return fail(std::string("face ") + what[slot] + " index 0 (OBJ indices start at 1)");
-          long long n = counts[slot];
-          if (i > n || -i > n)
-            return fail(std::string("face ") + what[slot] + " index " + std::to_string(i) + " out of range (" +
-                        std::to_string(n) + " defined so far)");
-        }
-      }
-      ++faces;
+/// The materials the OBJ's libraries define, by name (the first definition of a name wins, as in tinyobjloader).
+struct Libraries {
+  std::vector<Material> materials;
+  std::unordered_map<std::string, uint32_t> by_name;
+  bool all_loaded = true;
+};
+
+Result<Libraries> load_libraries(const std::string& path, const ObjScan& scan, std::vector<std::string>& warnings) {
+  Libraries libs;
+  const std::filesystem::path dir = std::filesystem::path(path).parent_path();
+  for (const ObjLibraryRef& ref : scan.libraries) {
+    std::filesystem::path file(ref.file);
+    if (file.is_relative()) file = dir / file;
+    Result<std::string> text = read_text_file(file.lexically_normal().string());
+    if (!text) {
+      libs.all_loaded = false;
+      warnings.push_back(located(path, ref.line) + "material library " + text.error() +
+                         " (its materials become diffuse 0.8 grey)");
+      continue;
+    }
+    Result<MtlLibrary> lib = parse_mtl(*text, file.lexically_normal().string());
+    if (!lib) return Error{lib.error()};
+    for (std::string& w : lib->warnings) warnings.push_back(std::move(w));
+    for (Material& m : lib->materials) {
+      if (!libs.by_name.try_emplace(m.name, uint32_t(libs.materials.size())).second) continue;
+      libs.materials.push_back(std::move(m));
     }
   }
-  if (faces == 0) return path + ": no triangles (no 'f' statements)";
-  return {};
+  return libs;
 }
 
-Material convert_material(const tinyobj::material_t& t) {
-  Material m;
-  m.name = t.name;
-  vec3 kd(t.diffuse[0], t.diffuse[1], t.diffuse[2]);
-  vec3 ks(t.specular[0], t.specular[1], t.specular[2]);
-  m.emission = glm::max(vec3(t.emission[0], t.emission[1], t.emission[2]), vec3(0.0f));
-  bool glass = t.illum == 4 || t.illum == 6 || t.illum == 7 || t.dissolve < 1.0f;
-  bool mirror = t.illum == 3 || t.illum == 5 || (max_component(ks) > max_component(kd) && t.shininess >= 500.0f);
-  if (glass) {
-    m.type = MaterialType::glass;
-    m.albedo = vec3(1.0f);
-    m.ior = (t.ior > 0.0f && t.ior != 1.0f && std::isfinite(t.ior)) ? t.ior : 1.5f;
-  } else if (mirror) {
-    m.type = MaterialType::specular;
-    m.albedo = glm::clamp(ks, vec3(0.0f), vec3(1.0f));
-  } else {
-    m.albedo = glm::max(kd, vec3(0.0f));
-  }
-  if (!is_finite(m.albedo)) m.albedo = vec3(0.8f);
-  if (!is_finite(m.emission)) m.emission = vec3(0.0f);
-  return m;
+/// The text tinyobjloader gets: ours, or without comments after statements (it would read "f 1 2 3 # x" as a
+/// fourth corner and fail).
+std::string without_inline_comments(std::string_view text) {
+  std::string out;
+  out.reserve(text.size());
+  for_each_line(text, [&](int, std::string_view line) {
+    out += line.substr(0, comment_start(line));
+    out += '\n';
+    return true;
+  });
+  return out;
+}
+
+/// Drops the positions and normals no triangle uses (stray points, corners of dropped triangles), so a mesh's
+/// bounds are those of its surface.
+void compact(Mesh& mesh) {
+  auto remap = [](std::vector<vec3>& values, std::vector<uvec3>& triangles) {
+    constexpr uint32_t kUnused = ~0u;
+    std::vector<uint32_t> index(values.size(), kUnused);
+    std::vector<vec3> kept;
+    kept.reserve(values.size());
+    for (uvec3& t : triangles)
+      for (int k = 0; k < 3; ++k) {
+        uint32_t& i = index[t[k]];
+        if (i == kUnused) {
+          i = uint32_t(kept.size());
+          kept.push_back(values[t[k]]);
+        }
+        t[k] = i;
+      }
+    values = std::move(kept);
+  };
+  remap(mesh.positions, mesh.indices);
+  remap(mesh.normals, mesh.normal_indices);
 }
 
 }  // namespace
@@ -129,111 +111,161 @@ Material convert_material(const tinyobj::material_t& t) {
 Result<ObjData> read_obj(const std::string& path, bool use_mtl) {
   Result<std::string> text = read_text_file(path);
   if (!text) return Error{text.error()};
-  if (std::string err = validate_obj(path, *text); !err.empty()) return Error{err};
+  Result<ObjScan> scanned = scan_obj(*text, path);
+  if (!scanned) return Error{scanned.error()};
+  const ObjScan& scan = *scanned;
+  if (scan.faces.empty()) return Error{path + ": no triangles (the file has no faces)"};
 
   ObjData out;
-  // Gather the material libraries ourselves, so a missing one is a warning that names it and paths are relative
-  // to the OBJ; tinyobjloader then parses OBJ and MTL text from memory.
-  const std::string dir = std::filesystem::path(path).parent_path().string();
-  std::string mtl_text;
+  Libraries libs;
   if (use_mtl) {
-    size_t pos = 0;
-    const std::string& t = *text;
-    while (pos < t.size()) {
-      size_t end = t.find('\n', pos);
-      if (end == std::string::npos) end = t.size();
-      std::string_view line(t.data() + pos, end - pos);
-      pos = end + 1;
-      if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
-      auto parts = split_ws(line);
-      if (parts.size() < 2 || parts[0] != "mtllib") continue;
-      for (size_t k = 1; k < parts.size(); ++k) {
-        std::filesystem::path lib(parts[k]);
-        if (lib.is_relative()) lib = std::filesystem::path(dir) / lib;
-        Result<std::string> mtl = read_text_file(lib.string());
-        if (!mtl) {
-          out.warnings.push_back(path + ": material library " + mtl.error() + "; using diffuse 0.8");
-          continue;
-        }
-        mtl_text += *mtl;
-        mtl_text += "\n";
-      }
-    }
+    Result<Libraries> loaded = load_libraries(path, scan, out.warnings);
+    if (!loaded) return Error{loaded.error()};
+    libs = std::move(*loaded);
   }
-  tinyobj::ObjReaderConfig config;
-  config.triangulate = true;
-  config.vertex_color = false;
-  tinyobj::ObjReader reader;
-  bool ok = false;
+
+  tinyobj::attrib_t attrib;
+  std::vector<tinyobj::shape_t> shapes;
+  std::vector<tinyobj::material_t> unused_materials;
+  std::string tiny_warning, tiny_error;
+  bool parsed = false;
   try {
-    ok = reader.ParseFromString(*text, mtl_text, config);
-  } catch (...) {
-    ok = false;
+    std::string cleaned = scan.has_inline_comments ? without_inline_comments(*text) : std::string();
+    MemoryBuffer buffer(scan.has_inline_comments ? std::string_view(cleaned) : std::string_view(*text));
+    std::istream stream(&buffer);
+    // No material reader: mtl.cpp has read the libraries. No triangulation: polygon.cpp keeps the winding.
+    parsed = tinyobj::LoadObj(&attrib, &shapes, &unused_materials, &tiny_warning, &tiny_error, &stream, nullptr,
+                              /*triangulate=*/false, /*default_vcols_fallback=*/false);
+  } catch (const std::bad_alloc&) {
+    return Error{path + ": out of memory"};
+  } catch (const std::exception& e) {
+    return Error{path + ": " + e.what()};
   }
-  if (!ok) return Error{path + ": " + (reader.Error().empty() ? "cannot parse" : reader.Error())};
-  const std::vector<tinyobj::material_t>& materials = reader.GetMaterials();
-  const tinyobj::attrib_t& attrib = reader.GetAttrib();
+  if (!parsed) return Error{path + ": " + (tiny_error.empty() ? std::string("cannot parse") : tiny_error)};
+  size_t tiny_faces = 0;
+  for (const tinyobj::shape_t& s : shapes) tiny_faces += s.mesh.num_face_vertices.size();
+  if (attrib.vertices.size() != 3 * scan.positions || attrib.normals.size() != 3 * scan.normals ||
+      tiny_faces != scan.faces.size())
+    return Error{path + ": tinyobjloader read " + std::to_string(attrib.vertices.size() / 3) + " vertices and " +
+                 std::to_string(tiny_faces) + " faces where there are " + std::to_string(scan.positions) + " and " +
+                 std::to_string(scan.faces.size())};
+
   Mesh& mesh = out.mesh;
   mesh.name = path;
-  for (size_t i = 0; i + 2 < attrib.vertices.size(); i += 3)
-    mesh.positions.emplace_back(attrib.vertices[i], attrib.vertices[i + 1], attrib.vertices[i + 2]);
-  for (size_t i = 0; i + 2 < attrib.normals.size(); i += 3)
-    mesh.normals.emplace_back(attrib.normals[i], attrib.normals[i + 1], attrib.normals[i + 2]);
-  for (const tinyobj::material_t& m : materials) out.materials.push_back(convert_material(m));
-  int default_id = -1;
-  size_t degenerate = 0;
+  mesh.positions.resize(scan.positions);
+  for (size_t i = 0; i < scan.positions; ++i)
+    mesh.positions[i] = vec3(attrib.vertices[3 * i], attrib.vertices[3 * i + 1], attrib.vertices[3 * i + 2]);
+  mesh.normals.resize(scan.normals);
+  std::vector<bool> normal_ok(scan.normals);
+  for (size_t i = 0; i < scan.normals; ++i) {
+    vec3 n(attrib.normals[3 * i], attrib.normals[3 * i + 1], attrib.normals[3 * i + 2]);
+    float len = glm::length(n);
+    normal_ok[i] = len > 0.0f && std::isfinite(len);
+    mesh.normals[i] = normal_ok[i] ? n / len : vec3(0.0f);
+  }
+
+  // Material of each usemtl slot: a library material (added on first use) or the default grey.
+  std::vector<int> slot_material(scan.materials.size(), -1);
+  int default_material = -1;
+  auto material_for = [&](int slot) -> uint32_t {
+    if (!use_mtl) return 0;
+    int& id = slot >= 0 ? slot_material[size_t(slot)] : default_material;
+    if (id >= 0) return uint32_t(id);
+    auto it = slot >= 0 ? libs.by_name.find(scan.materials[size_t(slot)].name) : libs.by_name.end();
+    if (it != libs.by_name.end()) {
+      out.materials.push_back(libs.materials[it->second]);
+      id = int(out.materials.size() - 1);
+      return uint32_t(id);
+    }
+    if (slot >= 0 && libs.all_loaded) {
+      const ObjMaterialUse& use = scan.materials[size_t(slot)];
+      out.warnings.push_back(located(path, use.line) + "material '" + use.name +
+                             "' is not defined by any material library: using diffuse 0.8 grey");
+    }
+    if (default_material < 0) {
+      out.materials.push_back(Material{"default"});
+      default_material = int(out.materials.size() - 1);
+    }
+    id = default_material;
+    return uint32_t(id);
+  };
+
+  constexpr uint32_t kNoNormal = ~0u;
+  std::vector<vec3> corners;
+  std::vector<uvec3> local;
+  size_t face = 0, degenerate = 0;
+  int first_degenerate_line = 0;
   bool any_normals = false;
-  std::vector<uvec3> normal_idx;
-  for (const tinyobj::shape_t& shape : reader.GetShapes()) {
-    const auto& idx = shape.mesh.indices;
-    for (size_t f = 0; f + 2 < idx.size(); f += 3) {
-      size_t face = f / 3;
-      uvec3 tri(uint32_t(idx[f].vertex_index), uint32_t(idx[f + 1].vertex_index), uint32_t(idx[f + 2].vertex_index));
-      vec3 a = mesh.positions[tri.x], b = mesh.positions[tri.y], c = mesh.positions[tri.z];
-      vec3 cr = glm::cross(b - a, c - a);
-      if (!(glm::dot(cr, cr) > 0.0f)) {
-        ++degenerate;
-        continue;
-      }
-      int mat = face < shape.mesh.material_ids.size() ? shape.mesh.material_ids[face] : -1;
-      if (mat < 0 || size_t(mat) >= out.materials.size()) {
-        if (default_id < 0) {
-          out.materials.push_back(Material{"default"});
-          default_id = int(out.materials.size() - 1);
+  for (const tinyobj::shape_t& shape : shapes) {
+    size_t offset = 0;
+    for (unsigned char count : shape.mesh.num_face_vertices) {
+      const ObjFace& f = scan.faces[face++];
+      const tinyobj::index_t* idx = &shape.mesh.indices[offset];
+      offset += count;
+      if (count != f.corners)
+        return Error{located(path, f.line) + "tinyobjloader read " + std::to_string(count) + " corners"};
+      corners.resize(count);
+      for (size_t k = 0; k < count; ++k) corners[k] = mesh.positions[size_t(idx[k].vertex_index)];
+      local.clear();
+      triangulate_polygon(corners, local);
+      uint32_t material = material_for(f.material);
+      for (uvec3 t : local) {
+        uvec3 tri(uint32_t(idx[t.x].vertex_index), uint32_t(idx[t.y].vertex_index), uint32_t(idx[t.z].vertex_index));
+        dvec3 a(mesh.positions[tri.x]), b(mesh.positions[tri.y]), c(mesh.positions[tri.z]);
+        dvec3 n = glm::cross(b - a, c - a);
+        if (!(glm::dot(n, n) > 0.0)) {
+          if (degenerate++ == 0) first_degenerate_line = f.line;
+          continue;
         }
-        mat = default_id;
+        uvec3 ntri(kNoNormal);
+        int na = idx[t.x].normal_index, nb = idx[t.y].normal_index, nc = idx[t.z].normal_index;
+        if (na >= 0 && nb >= 0 && nc >= 0 && normal_ok[size_t(na)] && normal_ok[size_t(nb)] && normal_ok[size_t(nc)]) {
+          ntri = uvec3(uint32_t(na), uint32_t(nb), uint32_t(nc));
+          any_normals = true;
+        }
+        mesh.indices.push_back(tri);
+        mesh.normal_indices.push_back(ntri);
+        mesh.materials.push_back(material);
       }
-      bool has_n = idx[f].normal_index >= 0 && idx[f + 1].normal_index >= 0 && idx[f + 2].normal_index >= 0;
-      any_normals |= has_n;
-      mesh.indices.push_back(tri);
-      normal_idx.push_back(has_n ? uvec3(uint32_t(idx[f].normal_index), uint32_t(idx[f + 1].normal_index),
-                                         uint32_t(idx[f + 2].normal_index))
-                                 : uvec3(0));
-      mesh.materials.push_back(uint32_t(mat));
     }
   }
-  if (any_normals) mesh.normal_indices = std::move(normal_idx);
   if (degenerate > 0)
-    out.warnings.push_back(path + ": " + std::to_string(degenerate) + " degenerate (zero-area) triangle" +
-                           (degenerate == 1 ? "" : "s") + " dropped");
+    out.warnings.push_back(located(path, first_degenerate_line) + std::to_string(degenerate) +
+                           (degenerate == 1 ? " degenerate (zero-area) triangle" : " degenerate (zero-area) triangles") +
+                           " dropped (the first from this line)");
   if (mesh.indices.empty()) return Error{path + ": no triangles with non-zero area"};
+  if (!any_normals) {
+    mesh.normals.clear();
+    mesh.normal_indices.clear();
+  } else {
+    // Faces without (valid) normals in a mesh that has them shade flat: give them their geometric normal.
+    for (size_t t = 0; t < mesh.indices.size(); ++t) {
+      if (mesh.normal_indices[t].x != kNoNormal) continue;
+      uvec3 tri = mesh.indices[t];
+      dvec3 a(mesh.positions[tri.x]), b(mesh.positions[tri.y]), c(mesh.positions[tri.z]);
+      vec3 n(glm::normalize(glm::cross(b - a, c - a)));  // non-zero: degenerate triangles are gone
+      mesh.normal_indices[t] = uvec3(uint32_t(mesh.normals.size()));
+      mesh.normals.push_back(n);
+    }
+  }
+  compact(mesh);
   return out;
 }
 
 void append_obj(Scene& scene, ObjData obj, int override_material) {
-  uint32_t base = uint32_t(scene.materials.size());
+  Mesh& mesh = obj.mesh;
   if (override_material >= 0) {
-    for (uint32_t& m : obj.mesh.materials) m = uint32_t(override_material);
+    mesh.materials.assign(mesh.indices.size(), uint32_t(override_material));
   } else {
-    for (Material& m : obj.materials) scene.materials.push_back(std::move(m));
-    for (uint32_t& m : obj.mesh.materials) m += base;
-  }
-  if (obj.mesh.materials.size() < obj.mesh.indices.size()) {
-    // Generated meshes carry no materials: the caller passed an override.
-    obj.mesh.materials.resize(obj.mesh.indices.size(), uint32_t(std::max(override_material, 0)));
+    if (obj.materials.empty()) obj.materials.push_back(Material{"default"});
+    std::vector<uint32_t> ids;
+    ids.reserve(obj.materials.size());
+    for (Material& m : obj.materials) ids.push_back(add_material(scene, std::move(m)));
+    mesh.materials.resize(mesh.indices.size(), 0u);
+    for (uint32_t& m : mesh.materials) m = ids[m < ids.size() ? m : 0u];
   }
   for (std::string& w : obj.warnings) scene.warnings.push_back(std::move(w));
-  scene.meshes.push_back(std::move(obj.mesh));
+  scene.meshes.push_back(std::move(mesh));
 }
 
 }  // namespace pt

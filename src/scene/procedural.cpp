@@ -4,45 +4,50 @@ namespace pt {
 
 namespace {
 
-dvec3 knot_point(const TorusKnotParams& k, double t) {
-  double r = (2.0 + std::cos(k.q * t)) * k.radius / 3.0;
-  return {r * std::cos(k.p * t), r * std::sin(k.p * t), std::sin(k.q * t) * k.radius / 3.0};
+/// The knot curve and its derivative at t.
+void knot_curve(const TorusKnotParams& k, double t, dvec3& point, dvec3& derivative) {
+  const double s = double(k.radius) / 3.0, p = k.p, q = k.q;
+  double r = s * (2.0 + std::cos(q * t)), dr = -s * q * std::sin(q * t);
+  point = {r * std::cos(p * t), r * std::sin(p * t), s * std::sin(q * t)};
+  derivative = {dr * std::cos(p * t) - r * p * std::sin(p * t), dr * std::sin(p * t) + r * p * std::cos(p * t),
+                s * q * std::cos(q * t)};
 }
 
 }  // namespace
 
-Mesh make_torus_knot(const TorusKnotParams& k) {
+Mesh make_torus_knot(const TorusKnotParams& k, uint32_t material) {
   Mesh mesh;
   mesh.name = "torus-knot";
-  const int n = k.segments, m = k.sides;
-  mesh.positions.reserve(size_t(n) * size_t(m));
-  mesh.normals.reserve(size_t(n) * size_t(m));
-  const double two_pi = 2.0 * 3.14159265358979323846;
-  for (int i = 0; i < n; ++i) {
-    double t = two_pi * i / n, dt = two_pi / n * 0.25;
-    dvec3 c = knot_point(k, t);
-    dvec3 tangent = glm::normalize(knot_point(k, t + dt) - knot_point(k, t - dt));
-    // The direction away from the knot's symmetry axis is never parallel to the tangent of a torus knot.
-    dvec3 out = glm::normalize(dvec3(c.x, c.y, 0.0));
-    dvec3 b = glm::normalize(glm::cross(tangent, out));
-    dvec3 nrm = glm::cross(b, tangent);
-    for (int j = 0; j < m; ++j) {
+  const uint32_t n = uint32_t(std::max(k.segments, 3)), m = uint32_t(std::max(k.sides, 3));
+  mesh.positions.reserve(size_t(n) * m);
+  mesh.normals.reserve(size_t(n) * m);
+  const double two_pi = 6.283185307179586476925;
+  for (uint32_t i = 0; i < n; ++i) {
+    dvec3 c, dc;
+    knot_curve(k, two_pi * i / n, c, dc);
+    dvec3 tangent = glm::normalize(dc);
+    dvec3 away(c.x, c.y, 0.0);  // r(t) >= radius / 3 > 0: never on the axis
+    dvec3 normal = glm::normalize(away - glm::dot(away, tangent) * tangent);
+    dvec3 binormal = glm::cross(tangent, normal);
+    for (uint32_t j = 0; j < m; ++j) {
       double phi = two_pi * j / m;
-      dvec3 dir = std::cos(phi) * nrm + std::sin(phi) * b;
+      dvec3 dir = std::cos(phi) * normal + std::sin(phi) * binormal;
       mesh.positions.push_back(vec3(c + double(k.tube) * dir));
       mesh.normals.push_back(vec3(dir));
     }
   }
-  auto id = [&](int i, int j) { return uint32_t(((i + n) % n) * m + (j + m) % m); };
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < m; ++j) {
-      uint32_t a = id(i, j), b = id(i + 1, j), c = id(i + 1, j + 1), d = id(i, j + 1);
+  // With S(t, phi) = c(t) + tube (cos phi N + sin phi B): dS/dphi x dS/dt points along +dir (outward), because
+  // (T, N, B) is right-handed. So the corners go around each quad in the order (t, phi), (t, phi+1), (t+1, phi+1).
+  auto id = [&](uint32_t i, uint32_t j) { return (i % n) * m + j % m; };
+  mesh.indices.reserve(2 * size_t(n) * m);
+  for (uint32_t i = 0; i < n; ++i)
+    for (uint32_t j = 0; j < m; ++j) {
+      uint32_t a = id(i, j), b = id(i, j + 1), c = id(i + 1, j + 1), d = id(i + 1, j);
       mesh.indices.push_back({a, b, c});
       mesh.indices.push_back({a, c, d});
     }
-  if (signed_volume(mesh) < 0.0)
-    for (uvec3& t : mesh.indices) std::swap(t.y, t.z);
   mesh.normal_indices = mesh.indices;
+  mesh.materials.assign(mesh.indices.size(), material);
   return mesh;
 }
 
