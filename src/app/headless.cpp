@@ -35,7 +35,8 @@ void print_progress(int frame, int frames_total, int spp, double seconds, uint64
 int run_headless(const AppOptions& options, const Scene& scene) {
   const RenderParams& params = options.render;
   RenderScene rs = make_render_scene(scene);
-  for (const std::string& w : scene.warnings) std::fprintf(stderr, "ptview: warning: %s\n", w.c_str());
+  for (const std::string& w : scene.warnings)
+    std::fprintf(stderr, "ptview: warning: %s\n", Error::one_line(w).c_str());
 
   std::optional<Image> reference;
   std::ostringstream error_csv;

@@ -6,9 +6,33 @@
 
 namespace pt {
 
-/// An error message already formatted for the user, "file:line: reason" where a location is known.
+/// An error message already formatted for the user, "file:line: reason" where a location is known. Always one
+/// line: control characters that came in through file names, JSON keys or file contents are escaped, and very long
+/// messages are cut, so a user (or a script) always reads exactly one line.
 struct Error {
   std::string message;
+
+  Error() = default;
+  Error(std::string text) : message(one_line(std::move(text))) {}  // NOLINT: implicit from a string
+
+  static std::string one_line(std::string text) {
+    static const char* hex = "0123456789abcdef";
+    std::string out;
+    out.reserve(text.size());
+    for (char ch : text) {
+      unsigned char c = static_cast<unsigned char>(ch);
+      if (c == '\n') out += "\\n";
+      else if (c == '\r') out += "\\r";
+      else if (c == '\t') out += "\\t";
+      else if (c < 0x20 || c == 0x7f) out += std::string("\\x") + hex[c >> 4] + hex[c & 15];
+      else out += ch;
+      if (out.size() > 4000) {
+        out += "...";
+        break;
+      }
+    }
+    return out;
+  }
 };
 
 template <class T>
