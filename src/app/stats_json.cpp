@@ -53,6 +53,7 @@ std::string make_stats_json(const AppOptions& options, const Scene& scene, const
                   {"paths_ended_roulette", c.paths_ended_roulette},
                   {"paths_ended_max_depth", c.paths_ended_max_depth},
                   {"paths_escaped", c.paths_escaped}};
+  j["kernel"] = kernel_name(rs, options.render);
   j["features"] = {{"glass", rs.features.has_glass},
                    {"specular", rs.features.has_specular},
                    {"background", rs.features.has_background}};

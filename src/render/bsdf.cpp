@@ -6,13 +6,8 @@ namespace pt {
 
 bool sample_bsdf(const Material& m, const ShadingContext& sc, float u_lobe, vec2 u, BsdfSample& out) {
   switch (m.type) {
-    case MaterialType::diffuse: {
-      vec3 local = sample_cosine_hemisphere(u);
-      vec3 wi = Frame::from_normal(sc.n).to_world(local);
-      if (glm::dot(wi, sc.ng) <= 0.0f || local.z <= 0.0f) return false;
-      out = {wi, m.albedo, cosine_hemisphere_pdf(local.z), false, 1.0f};
-      return true;
-    }
+    case MaterialType::diffuse:
+      return sample_diffuse(m, sc, u, out);
     case MaterialType::specular: {
       vec3 wi = reflect_dir(sc.wo, sc.n);
       if (glm::dot(wi, sc.ng) <= 0.0f) return false;

@@ -74,6 +74,15 @@ inline float bsdf_pdf(const Material& m, const ShadingContext& sc, vec3 wi) {
   return cosine_hemisphere_pdf(glm::dot(wi, sc.n));
 }
 
+/// Cosine-weighted sampling of a diffuse BRDF: the whole of sample_bsdf for scenes without mirrors or glass.
+inline bool sample_diffuse(const Material& m, const ShadingContext& sc, vec2 u, BsdfSample& out) {
+  vec3 local = sample_cosine_hemisphere(u);
+  vec3 wi = Frame::from_normal(sc.n).to_world(local);
+  if (glm::dot(wi, sc.ng) <= 0.0f || local.z <= 0.0f) return false;
+  out = {wi, m.albedo, cosine_hemisphere_pdf(local.z), false, 1.0f};
+  return true;
+}
+
 /// Samples an incident direction. `u_lobe` picks reflection or refraction for glass, `u` drives the direction.
 /// Returns false when the sample carries no energy.
 bool sample_bsdf(const Material& m, const ShadingContext& sc, float u_lobe, vec2 u, BsdfSample& out);

@@ -60,8 +60,12 @@ vec3 direct_light(const RenderScene& scene, const RenderParams& params, const Su
 
 }  // namespace
 
-vec3 trace_path(const RenderScene& scene, const RenderParams& params, Ray ray, PixelSampler& sampler,
-                RenderCounters& c) {
+/// The path loop, specialized on scene features (pbrt-v4 and Embree habit: decide once, not per ray): without
+/// mirrors or glass every vertex is diffuse, so the delta-BSDF branches are not compiled in; without a background
+/// escaping paths add nothing.
+template <bool kDelta, bool kBackground>
+vec3 trace_path_impl(const RenderScene& scene, const RenderParams& params, Ray ray, PixelSampler& sampler,
+                     RenderCounters& c) {
   vec3 radiance(0.0f);
   vec3 beta(1.0f);
   float eta_scale = 1.0f;
@@ -72,7 +76,7 @@ vec3 trace_path(const RenderScene& scene, const RenderParams& params, Ray ray, P
     Hit hit;
     if (!intersect_closest(scene.trace(), ray, hit)) {
       // The background is never light-sampled, so BSDF sampling always counts it in full.
-      radiance += beta * scene.background;
+      if constexpr (kBackground) radiance += beta * scene.background;
       ++c.paths_escaped;
       break;
     }
@@ -105,12 +109,16 @@ vec3 trace_path(const RenderScene& scene, const RenderParams& params, Ray ray, P
 
     const VertexSamples vs = VertexSamples::draw(sampler);
     if (sample_lights) {
-      if (is_delta(m)) ++c.light_sampling_skipped_specular;
+      if (kDelta && is_delta(m)) ++c.light_sampling_skipped_specular;
       else radiance += beta * direct_light(scene, params, sh, sc, m, vs, c);
     }
 
     BsdfSample bs;
-    if (!sample_bsdf(m, sc, vs.lobe, vs.direction, bs)) break;
+    if constexpr (kDelta) {
+      if (!sample_bsdf(m, sc, vs.lobe, vs.direction, bs)) break;
+    } else {
+      if (!sample_diffuse(m, sc, vs.direction, bs)) break;
+    }
     beta *= bs.weight;
     eta_scale *= bs.eta_scale;
     prev = {sh.sp.p, bs.pdf, bs.delta};
@@ -131,6 +139,25 @@ vec3 trace_path(const RenderScene& scene, const RenderParams& params, Ray ray, P
     }
   }
   return radiance;
+}
+
+vec3 trace_path(const RenderScene& scene, const RenderParams& params, Ray ray, PixelSampler& sampler,
+                RenderCounters& c) {
+  const bool delta = scene.features.has_glass || scene.features.has_specular || params.force_generic_kernel;
+  const bool background = scene.features.has_background || params.force_generic_kernel;
+  if (delta) {
+    return background ? trace_path_impl<true, true>(scene, params, ray, sampler, c)
+                      : trace_path_impl<true, false>(scene, params, ray, sampler, c);
+  }
+  return background ? trace_path_impl<false, true>(scene, params, ray, sampler, c)
+                    : trace_path_impl<false, false>(scene, params, ray, sampler, c);
+}
+
+const char* kernel_name(const RenderScene& scene, const RenderParams& params) {
+  if (params.force_generic_kernel) return "generic";
+  bool delta = scene.features.has_glass || scene.features.has_specular;
+  if (delta) return scene.features.has_background ? "all-materials+background" : "all-materials";
+  return scene.features.has_background ? "diffuse-only+background" : "diffuse-only";
 }
 
 }  // namespace pt

@@ -21,11 +21,15 @@ struct RenderParams {
   SamplerKind sampler = SamplerKind::sobol;
   uint64_t seed = 0;
   int threads = 0;     ///< 0 = all cores
+  bool force_generic_kernel = false;  ///< benchmarks only: disable the specialization on scene features
 };
 
 /// Radiance arriving along `ray` (from the camera). Counters are updated; the caller drops non-finite results.
 vec3 trace_path(const RenderScene& scene, const RenderParams& params, Ray ray, PixelSampler& sampler,
                 RenderCounters& counters);
+
+/// Which specialization of the path loop trace_path runs for this scene (for stats).
+const char* kernel_name(const RenderScene& scene, const RenderParams& params);
 
 /// Power heuristic with beta = 2 for one sample from each strategy.
 inline float power_heuristic(float pdf_a, float pdf_b) {
