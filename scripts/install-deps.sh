@@ -10,6 +10,9 @@ packages=(
   libglfw3-dev libimgui-dev python3-glad libgl-dev
   xvfb xauth libgl1-mesa-dri
 )
+if [ "${PTVIEW_WITH_CI_TOOLS:-0}" = "1" ]; then
+  packages+=(clang libclang-rt-14-dev util-linux)  # fuzzing (libFuzzer) and setarch for ThreadSanitizer
+fi
 if [ "${PTVIEW_WITH_BENCH_DEPS:-0}" = "1" ]; then
   packages+=(libembree-dev embree-tools python3-matplotlib linux-perf)
 fi
