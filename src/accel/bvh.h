@@ -58,11 +58,12 @@ inline RayBoxData make_ray_box_data(const Ray& ray) {
   return r;
 }
 
-/// Slab test; returns the entry distance or +inf on a miss. Robust: the far distance is scaled up by
-/// 1 + 2 gamma(3) (Ize 2013, "Robust BVH Ray Traversal"), and NaNs from 0 * inf never tighten the interval.
+/// Slab test; returns the entry distance or +inf on a miss. Robust: the far distances and tmax are scaled up by
+/// 1 + 2 gamma(3) (Ize 2013, "Robust BVH Ray Traversal"), so rounding of the slab distances never culls a box that
+/// holds a hit just inside tmax, and NaNs from 0 * inf never tighten the interval.
 inline float intersect_box(const AABB& b, const RayBoxData& r, float tmax) {
   constexpr float kRobust = 1.0f + 2.0f * gamma_bound(3);
-  float t0 = 0.0f, t1 = tmax;
+  float t0 = 0.0f, t1 = tmax * kRobust;
   for (int i = 0; i < 3; ++i) {
     float near = ((r.dir_neg[i] ? b.hi[i] : b.lo[i]) - r.org[i]) * r.inv_dir[i];
     float far = ((r.dir_neg[i] ? b.lo[i] : b.hi[i]) - r.org[i]) * r.inv_dir[i];

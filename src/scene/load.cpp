@@ -26,6 +26,23 @@ std::string lower_extension(const std::string& path) {
   return ext;
 }
 
+/// Runs a loader so that nothing escapes it: the loaders catch what they expect, this catches the rest (an
+/// allocation failing while finalizing a huge scene, ...) as a one-line error naming the source. Also makes sure
+/// every message is one line.
+template <class F>
+Result<Scene> guarded(const std::string& source, F&& load) {
+  try {
+    Result<Scene> r = load();
+    if (!r) return Error{one_line(r.error())};
+    for (std::string& w : r->warnings) w = one_line(w);
+    return r;
+  } catch (const std::bad_alloc&) {
+    return Error{source + ": out of memory"};
+  } catch (const std::exception& e) {
+    return Error{source + ": " + e.what()};
+  }
+}
+
 bool same_parameters(const Material& a, const Material& b) {
   return a.type == b.type && a.albedo == b.albedo && a.ior == b.ior && a.emission == b.emission;
 }
@@ -65,45 +82,51 @@ uint32_t add_material(Scene& scene, Material m) {
 }
 
 Result<Scene> load_obj_scene(const std::string& path) {
-  Result<ObjData> obj = read_obj(path, true);
-  if (!obj) return Error{obj.error()};
-  Scene scene;
-  scene.source = path;
-  append_obj(scene, std::move(*obj), -1);
-  return scene;
+  return guarded(path, [&]() -> Result<Scene> {
+    Result<ObjData> obj = read_obj(path, true);
+    if (!obj) return Error{obj.error()};
+    Scene scene;
+    scene.source = path;
+    append_obj(scene, std::move(*obj), -1);
+    return scene;
+  });
 }
 
 Result<Scene> load_builtin_scene(std::string_view name) {
   std::string source = std::string(kBuiltinPrefix) + std::string(name);
-  for (const BuiltinAsset& a : builtin_assets()) {
-    if (name != a.name) continue;
-    Result<Scene> scene = parse_json_scene(a.json, source);
-    if (scene) finalize_scene(*scene);
-    return scene;
-  }
-  std::string known;
-  for (const BuiltinAsset& a : builtin_assets()) known += std::string(known.empty() ? "" : ", ") + a.name;
-  return Error{source + ": no such built-in scene (known: " + known + ")"};
+  return guarded(source, [&]() -> Result<Scene> {
+    for (const BuiltinAsset& a : builtin_assets()) {
+      if (name != a.name) continue;
+      Result<Scene> scene = parse_json_scene(a.json, source);
+      if (scene) finalize_scene(*scene);
+      return scene;
+    }
+    std::string known;
+    for (const BuiltinAsset& a : builtin_assets()) known += std::string(known.empty() ? "" : ", ") + a.name;
+    return Error{source + ": no such built-in scene (known: " + known + ")"};
+  });
 }
 
 Result<Scene> load_scene(const std::string& path) {
   if (path.starts_with(kBuiltinPrefix)) return load_builtin_scene(std::string_view(path).substr(kBuiltinPrefix.size()));
-  std::string ext = lower_extension(path);
-  Result<Scene> scene = Error{""};
-  if (ext == ".json") {
-    Result<std::string> text = read_text_file(path);
-    if (!text) return Error{text.error()};
-    scene = parse_json_scene(*text, path);
-  } else if (ext == ".obj") {
-    scene = load_obj_scene(path);
-  } else {
-    struct stat st;
-    if (::stat(path.c_str(), &st) != 0) return Error{path + ": cannot open: " + std::strerror(errno)};
-    return Error{path + ": unsupported scene type " + (ext.empty() ? std::string("(no extension)") : "'" + ext + "'") +
-                 " (expected .obj or .json)"};
-  }
-  if (scene) finalize_scene(*scene);
-  return scene;
+  return guarded(path, [&]() -> Result<Scene> {
+    std::string ext = lower_extension(path);
+    Result<Scene> scene = Error{""};
+    if (ext == ".json") {
+      Result<std::string> text = read_text_file(path);
+      if (!text) return Error{text.error()};
+      scene = parse_json_scene(*text, path);
+    } else if (ext == ".obj") {
+      scene = load_obj_scene(path);
+    } else {
+      struct stat st;
+      if (::stat(path.c_str(), &st) != 0) return Error{path + ": cannot open: " + std::strerror(errno)};
+      return Error{path + ": unsupported scene type " +
+                   (ext.empty() ? std::string("(no extension)") : "'" + ext + "'") + " (expected .obj or .json)"};
+    }
+    if (scene) finalize_scene(*scene);
+    return scene;
+  });
 }
 
 }  // namespace pt

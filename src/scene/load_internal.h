@@ -22,6 +22,22 @@ inline std::string located(const std::string& file, int line) {
   return line > 0 ? file + ":" + std::to_string(line) + ": " : file + ": ";
 }
 
+/// `s` with control characters written as escapes ("\\n", "\\x01"): names taken from a file (a JSON key "a\\nb", a
+/// file name) must not break the one-line shape of messages.
+inline std::string one_line(std::string_view s) {
+  std::string out;
+  out.reserve(s.size());
+  for (char c : s) {
+    unsigned char u = static_cast<unsigned char>(c);
+    if (u >= 0x20 && u != 0x7f) out += c;
+    else if (c == '\n') out += "\\n";
+    else if (c == '\r') out += "\\r";
+    else if (c == '\t') out += "\\t";
+    else out += "\\x" + std::string(1, "0123456789abcdef"[u >> 4]) + "0123456789abcdef"[u & 15];
+  }
+  return out;
+}
+
 /// Calls fn(line_number, line) for every line of `text`, 1-based. A line ends at "\n", "\r\n" or a lone "\r",
 /// exactly as tinyobjloader's safeGetline splits them, so both passes over an OBJ agree on line numbers. Stops
 /// and returns false as soon as fn returns false.

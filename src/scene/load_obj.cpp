@@ -60,7 +60,7 @@ Result<Libraries> load_libraries(const std::string& path, const ObjScan& scan, s
       continue;
     }
     Result<MtlLibrary> lib = parse_mtl(*text, file.lexically_normal().string());
-    if (!lib) return Error{lib.error()};
+    if (!lib) return Error{located(path, ref.line) + "material library " + lib.error()};
     for (std::string& w : lib->warnings) warnings.push_back(std::move(w));
     for (Material& m : lib->materials) {
       if (!libs.by_name.try_emplace(m.name, uint32_t(libs.materials.size())).second) continue;
@@ -231,7 +231,7 @@ Result<ObjData> read_obj(const std::string& path, bool use_mtl) {
   }
   if (degenerate > 0)
     out.warnings.push_back(located(path, first_degenerate_line) + std::to_string(degenerate) +
-                           (degenerate == 1 ? " degenerate (zero-area) triangle" : " degenerate (zero-area) triangles") +
+                           " degenerate (zero-area) triangle" + (degenerate == 1 ? "" : "s") +
                            " dropped (the first from this line)");
   if (mesh.indices.empty()) return Error{path + ": no triangles with non-zero area"};
   if (!any_normals) {

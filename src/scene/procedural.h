@@ -23,7 +23,8 @@ struct TorusKnotParams {
 /// (counter-clockwise seen from outside), exact shading normals (the ring's radial direction: each ring lies in
 /// the curve's normal plane, so that direction is perpendicular to both surface tangents), and every triangle set
 /// to `material`. The ring frame is (T, N, B) with N the component of the direction away from the z axis that is
-/// perpendicular to T: it depends only on the point of the curve, so the rings close up without a seam. Requires
+/// perpendicular to T: it depends only on the point of the curve, so the rings close up without a seam. Vertices
+/// are stored ring by ring (vertex j of ring i at i * sides + j), each with its own normal. Requires
 /// p >= 1 (then T is never radial), segments, sides >= 3, radius, tube > 0.
 Mesh make_torus_knot(const TorusKnotParams& params, uint32_t material = 0);
 

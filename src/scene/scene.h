@@ -75,6 +75,10 @@ struct Scene {
   bool has_emitter() const;
 };
 
+/// A camera on the +z side of `bounds` looking down -z at their center, far enough that their bounding sphere fits
+/// a 40-degree vertical field of view with a 10% margin; up is +y. Empty or non-finite bounds give Camera{}.
+Camera framing_camera(const AABB& bounds);
+
 /// Gives a scene what it needs to render and did not say: a camera framing its bounds when it has none, and a
 /// rectangle light above its bounds (with a warning) when it has no emitter and no background.
 void finalize_scene(Scene& scene);

@@ -1,0 +1,69 @@
+// The JSON location scanner: the line where the value at a path starts, through strings with escapes, nested
+// containers, a byte order mark and any depth; falling back to the deepest existing ancestor.
+#include <gtest/gtest.h>
+
+#include "scene/json_locate.h"
+
+namespace pt {
+namespace {
+
+TEST(JsonLocate, FindsNestedValuesAndFallsBackToAncestors) {
+  std::string text =
+      "{\n"                               // 1
+      " \"a\": [\n"                       // 2
+      "  1,\n"                            // 3
+      "  {\"b\": \"x\\\"y}]{\",\n"        // 4: a string with an escaped quote and brackets
+      "   \"c\": 3}\n"                    // 5
+      " ],\n"                             // 6
+      " \"d\": {},\n"                     // 7
+      " \"e\":\n"                         // 8
+      "\n"                                // 9
+      "   [[], [[\"deep\"]]]\n"           // 10
+      "}";
+  EXPECT_EQ(json_line_of(text, {}), 1);
+  EXPECT_EQ(json_line_of(text, {"a"}), 2);
+  EXPECT_EQ(json_line_of(text, {"a", "0"}), 3);
+  EXPECT_EQ(json_line_of(text, {"a", "1"}), 4);
+  EXPECT_EQ(json_line_of(text, {"a", "1", "b"}), 4);
+  EXPECT_EQ(json_line_of(text, {"a", "1", "c"}), 5);
+  EXPECT_EQ(json_line_of(text, {"d"}), 7);
+  EXPECT_EQ(json_line_of(text, {"e"}), 10);  // the value, not the key
+  EXPECT_EQ(json_line_of(text, {"e", "1", "0", "0"}), 10);
+  // Missing parts: the deepest value that exists.
+  EXPECT_EQ(json_line_of(text, {"a", "7"}), 2);
+  EXPECT_EQ(json_line_of(text, {"a", "1", "zz"}), 4);
+  EXPECT_EQ(json_line_of(text, {"nope", "x"}), 1);
+  EXPECT_EQ(json_line_of(text, {"d", "0"}), 7);  // an index into an object
+  EXPECT_EQ(json_line_of(text, {"a", "b"}), 2);  // a key into an array
+}
+
+TEST(JsonLocate, MatchesKeysWrittenWithEscapes) {
+  // "\u00e9" and the raw UTF-8 "é" are the same key to a parser, as are "\/" and "/".
+  std::string text = "{\n\"caf\\u00e9\": 1,\n\"a\\/b\": 2,\n\"\\ud83d\\ude00\": 3,\n\"tab\\tkey\": 4\n}";
+  EXPECT_EQ(json_line_of(text, {"caf\xC3\xA9"}), 2);
+  EXPECT_EQ(json_line_of(text, {"a/b"}), 3);
+  EXPECT_EQ(json_line_of(text, {"\xF0\x9F\x98\x80"}), 4);  // a surrogate pair
+  EXPECT_EQ(json_line_of(text, {"tab\tkey"}), 5);
+}
+
+TEST(JsonLocate, SkipsAByteOrderMarkAndCountsCarriageReturnLineEnds) {
+  std::string text = "\xEF\xBB\xBF{\r\n \"a\": 1,\r\n \"b\": 2\r\n}";
+  EXPECT_EQ(json_line_of(text, {"b"}), 3);
+}
+
+TEST(JsonLocate, DeepNestingNeedsNoRecursion) {
+  // A value nested a million levels deep before the key we want: a recursive skip would overflow the stack.
+  const size_t depth = 1000000;
+  std::string text = "{\"x\": " + std::string(depth, '[') + std::string(depth, ']') + ",\n\"y\": 1}";
+  EXPECT_EQ(json_line_of(text, {"y"}), 2);
+  EXPECT_EQ(json_line_of(text, {"x", "0", "0", "0"}), 1);
+}
+
+TEST(JsonLocate, FindsTokensOutsideStringsOnly) {
+  std::string text = "{\"note\": \"1e999\",\n \"v\": [1,\n  1e999]}";
+  EXPECT_EQ(json_line_of_token(text, "1e999"), 3);
+  EXPECT_EQ(json_line_of_token(text, "2e999"), 0);
+}
+
+}  // namespace
+}  // namespace pt
