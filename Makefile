@@ -4,7 +4,7 @@ BUILD_TYPE ?= Release
 JOBS ?= $(shell nproc 2>/dev/null || echo 2)
 CMAKE_FLAGS ?=
 
-.PHONY: run test build deps configure clean bench
+.PHONY: run test build deps configure clean bench-error bench-throughput sanitize fuzz
 
 deps:
 	@bash scripts/install-deps.sh
@@ -20,6 +20,24 @@ run: build
 
 test: build
 	@cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS) --timeout 900
+
+# Error against time for every strategy and sampler; tables to stdout, plots to docs/img (see docs/BENCHMARKS.md).
+bench-error: build
+	@PTVIEW_WITH_BENCH_DEPS=1 bash scripts/install-deps.sh
+	./$(BUILD_DIR)/bench/bench_time_vs_error --size 128 --max-spp 64 --ref-spp 1024 --csv $(BUILD_DIR)/time_vs_error.csv
+	/usr/bin/python3 bench/plot_time_vs_error.py $(BUILD_DIR)/time_vs_error.csv docs/img
+
+bench-throughput: build
+	./$(BUILD_DIR)/bench/bench_render_throughput --csv $(BUILD_DIR)/render_throughput.csv
+
+# The whole suite under ASan + UBSan, the concurrency tests under TSan; each fuzzer for FUZZ_SECONDS.
+FUZZ_SECONDS ?= 60
+sanitize:
+	@PTVIEW_WITH_CI_TOOLS=1 bash scripts/install-deps.sh
+	bash scripts/sanitizers.sh
+fuzz:
+	@PTVIEW_WITH_CI_TOOLS=1 bash scripts/install-deps.sh
+	bash scripts/fuzz.sh $(FUZZ_SECONDS)
 
 clean:
 	rm -rf $(BUILD_DIR)
