@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "app/app.h"
+#include "render/camera.h"
 #include "render/renderer.h"
 #include "scene/load.h"
 
@@ -72,6 +73,72 @@ Scene make_furnace_scene() {
   return s;
 }
 
+/// A diffuse plane under a rectangle light (the light has zero albedo, the background is black): every path that
+/// leaves the plane either hits the light or escapes, so the exact image is (albedo / pi) E(x) on the plane, with
+/// E from Lambert's polygon formula, and the light's radiance where it is seen.
+struct PlaneScene {
+  Scene scene;
+  std::vector<dvec3> light;  ///< light polygon
+  double albedo = 0.7, radiance = 5.0;
+};
+
+PlaneScene make_plane_scene() {
+  PlaneScene ps;
+  Scene& s = ps.scene;
+  s.source = "rect-light-over-plane";
+  Material floor;
+  floor.albedo = vec3(float(ps.albedo));
+  s.materials.push_back(floor);
+  Material light;
+  light.albedo = vec3(0.0f);
+  light.emission = vec3(float(ps.radiance));
+  s.materials.push_back(light);
+  s.quads.push_back({vec3(-20, 0, 20), vec3(40, 0, 0), vec3(0, 0, -40), 0});
+  vec3 c(-0.4f, 0.8f, -0.3f), e1(0.8f, 0, 0), e2(0, 0, 0.6f);  // faces down
+  s.quads.push_back({c, e1, e2, 1});
+  ps.light = {dvec3(c), dvec3(c + e1), dvec3(c + e1 + e2), dvec3(c + e2)};
+  s.camera = Camera{vec3(0, 2.5f, 3.0f), vec3(0, 0, 0), vec3(0, 1, 0), 45.0f};
+  return ps;
+}
+
+double polygon_irradiance(const std::vector<dvec3>& poly, dvec3 x, dvec3 n, double L) {
+  double sum = 0.0;
+  for (size_t i = 0; i < poly.size(); ++i) {
+    dvec3 a = glm::normalize(poly[i] - x), b = glm::normalize(poly[(i + 1) % poly.size()] - x);
+    dvec3 c = glm::cross(a, b);
+    double len = glm::length(c);
+    if (len > 0.0) sum += std::acos(std::clamp(glm::dot(a, b), -1.0, 1.0)) * glm::dot(n, c / len);
+  }
+  return std::abs(0.5 * L * sum);
+}
+
+/// The exact image, box-filtered by averaging the closed form over a 16 x 16 grid of positions in each pixel.
+Image exact_plane_image(const PlaneScene& ps, int size) {
+  Image img(size, size);
+  CameraRig rig = make_camera_rig(*ps.scene.camera, size, size);
+  for (int y = 0; y < size; ++y)
+    for (int x = 0; x < size; ++x) {
+      double sum = 0.0;
+      for (int sy = 0; sy < 16; ++sy)
+        for (int sx = 0; sx < 16; ++sx) {
+          Ray r = generate_camera_ray(rig, x, y, vec2((sx + 0.5f) / 16, (sy + 0.5f) / 16));
+          dvec3 o(r.org), d(r.dir);
+          // The light (plane y = 0.8, seen from above: its back, black) hides the floor behind it.
+          double tl = (0.8 - o.y) / d.y;
+          dvec3 pl = o + tl * d;
+          if (tl > 0 && pl.x > -0.4 && pl.x < 0.4 && pl.z > -0.3 && pl.z < 0.3) continue;
+          double t = -o.y / d.y;
+          if (!(t > 0)) continue;
+          dvec3 p = o + t * d;
+          if (std::abs(p.x) > 20 || std::abs(p.z) > 20) continue;
+          sum += ps.albedo / M_PI * polygon_irradiance(ps.light, p, dvec3(0, 1, 0), ps.radiance);
+        }
+      float v = float(sum / 256.0);
+      img.set(x, y, vec3(v));
+    }
+  return img;
+}
+
 Image render(const RenderScene& rs, RenderParams p, int spp, Renderer& renderer) {
   Film film(p.width, p.height);
   RenderCounters c;
@@ -102,6 +169,8 @@ int main(int argc, char** argv) {
   }
   scenes.emplace_back("small-bright-light", make_small_light_scene());
   scenes.emplace_back("furnace", make_furnace_scene());
+  PlaneScene plane = make_plane_scene();
+  scenes.emplace_back("rect-light-over-plane", plane.scene);
   fs::create_directories(cache);
   Renderer renderer(0);
   std::ofstream csv(csv_path);
@@ -118,6 +187,8 @@ int main(int argc, char** argv) {
     if (name == "furnace") {
       reference = Image(size, size);
       std::fill(reference.rgb.begin(), reference.rgb.end(), 1.0f);
+    } else if (name == "rect-light-over-plane") {
+      reference = exact_plane_image(plane, size);
     } else {
       std::string ref_path = cache + "/ref-" + name + "-" + std::to_string(size) + "-" + std::to_string(ref_spp) + ".pfm";
       Result<Image> cached = load_image(ref_path);
