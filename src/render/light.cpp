@@ -113,7 +113,7 @@ bool sample_sphere(const Light& light, vec3 ref, vec2 u, LightSample& out) {
   vec3 dir = p - ref;
   float dist = glm::length(dir);
   if (!(dist > 0.0f)) return false;
-  out.point = {p, gamma_bound(5) * glm::abs(p), n};
+  out.point = {p, gamma_bound(5) * (glm::abs(c) + glm::abs(r * n)), n};
   out.wi = dir / dist;
   out.dist = dist;
   out.radiance = light.emission;

@@ -164,7 +164,9 @@ SurfaceHit make_surface_hit(const RenderScene& rs, const Ray& ray, const Hit& hi
     float len = glm::length(d);
     vec3 ng = len > 0.0f ? d / len : -ray.dir;
     p = sphere.center + sphere.radius * ng;  // reproject onto the surface (pbrt-v4 section 6.8.5)
-    sh.sp = {p, gamma_bound(5) * glm::abs(p), ng};
+    // p = c + r n: its error is bounded by both terms, not by |p|, which is small where a large sphere passes
+    // near the origin (pbrt-v4 section 6.8.5 bounds it in object space, where |p| = r).
+    sh.sp = {p, gamma_bound(5) * (glm::abs(sphere.center) + glm::abs(sphere.radius * ng)), ng};
     sh.ns = ng;
     sh.material = g.sphere_material[s];
     sh.light = rs.sphere_light[s];

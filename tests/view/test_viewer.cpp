@@ -1,6 +1,7 @@
 // The viewer tested as a person would use it: a real window under Xvfb, driven by scripted input through the same
 // code paths as mouse and panels, checked through screenshots, saved images and the stats it writes at exit.
 #include <gtest/gtest.h>
+#include <unistd.h>
 #include <stb_image.h>
 
 #include <nlohmann/json.hpp>
@@ -22,7 +23,10 @@ bool have_xvfb() { return std::system("command -v xvfb-run >/dev/null 2>&1") == 
 /// Runs ptview in a window: under xvfb-run when available (CI), else on the current display.
 RunResult run_window(const std::vector<std::string>& args, const TempDir& dir) {
   std::string cmd = "timeout 240 ";
-  if (have_xvfb()) cmd += "xvfb-run -a -s '-screen 0 1280x1024x24' ";
+  // -a alone probes display numbers from 99 and races with any other xvfb-run starting at the same moment (another
+  // test binary, a parallel CI job): start the probe at a number of our own.
+  if (have_xvfb())
+    cmd += "xvfb-run -a -n " + std::to_string(100 + ::getpid() % 800) + " -s '-screen 0 1280x1024x24' ";
   cmd += shell_quote(PTVIEW_EXE);
   for (const std::string& a : args) cmd += " " + shell_quote(a);
   cmd += " >" + shell_quote(dir / "stdout") + " 2>" + shell_quote(dir / "stderr") + " </dev/null";
