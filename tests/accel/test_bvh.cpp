@@ -278,11 +278,11 @@ TEST(Bvh, ClosestAndAnyHitEqualBruteForce) {
   expect_matches_brute_force(g, s, 100000, 2, 30);
 }
 
-// BUG REPRODUCER (reported to the lead; src/accel/bvh.h intersect_box): a hit at t must be found when tmax is one
-// float above t. Here the triangle lies in z = 0, so the root box is flat in z and its slab entry distance
-// (0 - o.z) * inv_dir.z rounds to 1.80722082, two floats above the triangle's t = 1.80722058; the slab test compares
-// it with the unwidened tmax and culls the root. Widening tmax by the same 1 + 2 gamma(3) factor Ize 2013 applies
-// to the far distances fixes it (checked on 87k such rays). ClosestAndAnyHitEqualBruteForce finds the same case.
+// REGRESSION TEST for a bug this suite found (src/accel/bvh.h intersect_box): a hit at t must be found when tmax is
+// one float above t. The triangle lies in z = 0, so the root box is flat in z and its slab entry distance
+// (0 - o.z) * inv_dir.z rounds to 1.80722082, two floats above the triangle's t = 1.80722058; a slab test that
+// compares it with the unwidened tmax culls the root. Widening tmax by the same 1 + 2 gamma(3) factor Ize 2013
+// applies to the far distances fixes it. ClosestAndAnyHitEqualBruteForce found the same case in the mixed soup.
 TEST(Bvh, FiniteTmaxOneFloatBeyondAHitOnAFlatBoxStillHits) {
   const std::vector<vec3> tri = {vec3(-1, -1, 0), vec3(1, -1, 0), vec3(0, 1, 0)};
   TraceGeometry g = make_trace_geometry(tri, {});
