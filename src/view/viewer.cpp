@@ -311,10 +311,7 @@ int run_viewer(const RenderParams& params, const DisplaySettings& display, const
         st.restart();
       }
       if (f_pressed) {
-        Scene framing = st.scene;
-        framing.camera.reset();
-        finalize_scene(framing);
-        *st.scene.camera = *framing.camera;
+        *st.scene.camera = framing_camera(st.scene.bounds());
         st.restart();
       }
     }
