@@ -17,6 +17,7 @@
 
 #include "app/app.h"
 #include "render/camera.h"
+#include "render/analytic.h"
 #include "render/renderer.h"
 #include "scene/load.h"
 
@@ -101,16 +102,6 @@ PlaneScene make_plane_scene() {
   return ps;
 }
 
-double polygon_irradiance(const std::vector<dvec3>& poly, dvec3 x, dvec3 n, double L) {
-  double sum = 0.0;
-  for (size_t i = 0; i < poly.size(); ++i) {
-    dvec3 a = glm::normalize(poly[i] - x), b = glm::normalize(poly[(i + 1) % poly.size()] - x);
-    dvec3 c = glm::cross(a, b);
-    double len = glm::length(c);
-    if (len > 0.0) sum += std::acos(std::clamp(glm::dot(a, b), -1.0, 1.0)) * glm::dot(n, c / len);
-  }
-  return std::abs(0.5 * L * sum);
-}
 
 /// The exact image, box-filtered by averaging the closed form over a 16 x 16 grid of positions in each pixel.
 Image exact_plane_image(const PlaneScene& ps, int size) {

@@ -4,20 +4,10 @@
 #include <vector>
 
 #include "app/options.h"
+#include "fuzz_args.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
-  std::vector<std::string> args = {"ptview"};
-  std::string cur;
-  for (size_t i = 0; i < size; ++i) {
-    char c = char(data[i]);
-    if (c == '\0' || c == '\n') {
-      args.push_back(cur);
-      cur.clear();
-    } else {
-      cur += c;
-    }
-  }
-  if (!cur.empty()) args.push_back(cur);
+  std::vector<std::string> args = pt::fuzz::split_args(reinterpret_cast<const char*>(data), size);
   if (args.size() > 64) return 0;
   std::vector<const char*> argv;
   for (const std::string& a : args) argv.push_back(a.c_str());

@@ -47,12 +47,8 @@ std::string make_stats_json(const AppOptions& options, const Scene& scene, const
               {"depth", rs.trace().bvh.depth},
               {"sah_cost", sah_cost(rs.trace().bvh)},
               {"primitives", rs.trace().primitive_count()}};
-  j["skipped"] = {{"shadow_rays_backfacing", c.shadow_skipped_backfacing},
-                  {"shadow_rays_zero_bsdf", c.shadow_skipped_zero_bsdf},
-                  {"light_sampling_specular", c.light_sampling_skipped_specular},
-                  {"paths_ended_roulette", c.paths_ended_roulette},
-                  {"paths_ended_max_depth", c.paths_ended_max_depth},
-                  {"paths_escaped", c.paths_escaped}};
+  j["skipped"] = nlohmann::json::object();
+  for (const auto& [name, count] : skipped_work(c)) j["skipped"][name] = count;
   j["kernel"] = kernel_name(rs, options.render);
   j["features"] = {{"glass", rs.features.has_glass},
                    {"specular", rs.features.has_specular},

@@ -2,6 +2,8 @@
 /// Counters of the work done and the work skipped. Each worker fills its own and they are summed after a tile,
 /// so counting costs no atomics in the hot loop.
 #include <cstdint>
+#include <utility>
+#include <vector>
 
 namespace pt {
 
@@ -35,5 +37,15 @@ struct RenderCounters {
     return *this;
   }
 };
+
+/// The counters of skipped work under the names every report uses (stats JSON of headless runs and the viewer).
+inline std::vector<std::pair<const char*, uint64_t>> skipped_work(const RenderCounters& c) {
+  return {{"shadow_rays_backfacing", c.shadow_skipped_backfacing},
+          {"shadow_rays_zero_bsdf", c.shadow_skipped_zero_bsdf},
+          {"light_sampling_specular", c.light_sampling_skipped_specular},
+          {"paths_ended_roulette", c.paths_ended_roulette},
+          {"paths_ended_max_depth", c.paths_ended_max_depth},
+          {"paths_escaped", c.paths_escaped}};
+}
 
 }  // namespace pt

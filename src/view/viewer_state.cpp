@@ -118,12 +118,8 @@ std::string ViewerState::stats_json() const {
     j["bvh"] = {{"build_ms", t.build_ms}, {"nodes", t.bvh.nodes.size()}, {"depth", t.bvh.depth},
                 {"sah_cost", sah_cost(t.bvh)}};
   }
-  j["skipped"] = {{"shadow_rays_backfacing", c.shadow_skipped_backfacing},
-                  {"shadow_rays_zero_bsdf", c.shadow_skipped_zero_bsdf},
-                  {"light_sampling_specular", c.light_sampling_skipped_specular},
-                  {"paths_ended_roulette", c.paths_ended_roulette},
-                  {"paths_ended_max_depth", c.paths_ended_max_depth},
-                  {"paths_escaped", c.paths_escaped}};
+  j["skipped"] = nlohmann::json::object();
+  for (const auto& [name, count] : skipped_work(c)) j["skipped"][name] = count;
   j["restart_latency_ms"] = {{"p50", percentile(restart_latency_ms, 0.5)},
                              {"p95", percentile(restart_latency_ms, 0.95)},
                              {"count", restart_latency_ms.size()}};

@@ -46,9 +46,10 @@ struct TempDir {
 };
 
 /// Runs PTVIEW_EXE with `args` (each quoted), with a timeout so a hang fails the test instead of blocking it.
-inline RunResult run_ptview(const std::vector<std::string>& args, int timeout_s = 300) {
+/// `wrapper` goes between the timeout and the executable (e.g. "xvfb-run -a").
+inline RunResult run_ptview(const std::vector<std::string>& args, int timeout_s = 300, const std::string& wrapper = "") {
   TempDir io;
-  std::string cmd = "timeout " + std::to_string(timeout_s) + " " + shell_quote(PTVIEW_EXE);
+  std::string cmd = "timeout " + std::to_string(timeout_s) + " " + wrapper + " " + shell_quote(PTVIEW_EXE);
   for (const std::string& a : args) cmd += " " + shell_quote(a);
   cmd += " >" + shell_quote(io / "out") + " 2>" + shell_quote(io / "err") + " </dev/null";
   int status = std::system(cmd.c_str());

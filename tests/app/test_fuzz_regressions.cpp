@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "../../fuzz/fuzz_args.h"
 #include "app/options.h"
 #include "run_exe.h"
 #include "scene/load.h"
@@ -38,17 +39,7 @@ TEST(FuzzRegressions, EveryKeptCrashIsHandled) {
         EXPECT_TRUE(one_line(r.error())) << name << ": " << r.error();
       }
     } else if (name.rfind("fuzz-fuzz_cli", 0) == 0) {
-      std::vector<std::string> args = {"ptview"};
-      std::string cur;
-      for (char c : text) {
-        if (c == '\0' || c == '\n') {
-          args.push_back(cur);
-          cur.clear();
-        } else {
-          cur += c;
-        }
-      }
-      if (!cur.empty()) args.push_back(cur);
+      std::vector<std::string> args = fuzz::split_args(text.data(), text.size());
       std::vector<const char*> argv;
       for (const std::string& a : args) argv.push_back(a.c_str());
       ParseOutcome out = parse_command_line(int(argv.size()), argv.data());

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 
+#include "render/analytic.h"
 #include "render/renderer.h"
 #include "scene_builders.h"
 
@@ -48,19 +49,6 @@ std::string config_name(IntegratorKind k, LightSampling m) {
   return std::string(names[int(k)]) + (m == LightSampling::area ? "/area" : "/solid-angle");
 }
 
-/// Irradiance at x (normal n) from a uniformly emitting planar polygon with radiance L (Lambert 1760; see Arvo
-/// 1995, "Applications of irradiance tensors"): E = L/2 sum_i angle(v_i, v_i+1) * dot(n, unit(v_i x v_i+1)).
-double polygon_irradiance(const std::vector<dvec3>& poly, dvec3 x, dvec3 n, double L) {
-  double sum = 0.0;
-  for (size_t i = 0; i < poly.size(); ++i) {
-    dvec3 a = glm::normalize(poly[i] - x), b = glm::normalize(poly[(i + 1) % poly.size()] - x);
-    dvec3 c = glm::cross(a, b);
-    double len = glm::length(c);
-    if (len == 0.0) continue;
-    sum += std::acos(std::clamp(glm::dot(a, b), -1.0, 1.0)) * glm::dot(n, c / len);
-  }
-  return std::abs(0.5 * L * sum);
-}
 
 // ---------------------------------------------------------------------------------------------------------------
 

@@ -61,6 +61,19 @@ int dark_speckles(const Image& img, const Image& ref) {
   return n;
 }
 
+/// One frame of `rs` with integrator `k` at size x size, `spp` samples, max depth 1000 (2 threads).
+Film render_stress(const RenderScene& rs, IntegratorKind k, int size, int spp, RenderCounters& c) {
+  RenderParams p;
+  p.width = p.height = size;
+  p.spp_per_frame = spp;
+  p.max_depth = 1000;
+  p.integrator = k;
+  Renderer renderer(2);
+  Film film(size, size);
+  renderer.render_frame(rs, p, film, 0, c);
+  return film;
+}
+
 struct Case {
   float scale;
   vec3 offset;
@@ -108,16 +121,9 @@ TEST(Stability, StressScenesStayFinite) {
   m.materials = {0, 0};
   s.meshes.push_back(m);
   RenderScene rs = make_render_scene(s);
-  RenderParams p;
-  p.width = p.height = 24;
-  p.spp_per_frame = 16;
-  p.max_depth = 1000;
   for (IntegratorKind k : {IntegratorKind::mis, IntegratorKind::nee, IntegratorKind::bsdf}) {
-    p.integrator = k;
-    Renderer renderer(2);
-    Film film(p.width, p.height);
     RenderCounters c;
-    renderer.render_frame(rs, p, film, 0, c);
+    Film film = render_stress(rs, k, 24, 16, c);
     for (size_t i = 0; i < film.count.size(); ++i) ASSERT_TRUE(is_finite(film.mean(i)));
     EXPECT_EQ(c.nonfinite_samples, 0u) << int(k);
   }
@@ -156,16 +162,9 @@ TEST(Stability, FurnaceHoldsForStressGeometry) {
   // Looking along the floor plane: grazing angles everywhere near the bottom of the image.
   s.camera = Camera{vec3(0, -0.98f, 4), vec3(0, -0.95f, 0), vec3(0, 1, 0), 50.0f};
   RenderScene rs = make_render_scene(s);
-  RenderParams p;
-  p.width = p.height = 32;
-  p.spp_per_frame = 16;
-  p.max_depth = 1000;
   for (IntegratorKind k : {IntegratorKind::mis, IntegratorKind::nee, IntegratorKind::bsdf}) {
-    p.integrator = k;
-    Renderer renderer(2);
-    Film film(p.width, p.height);
     RenderCounters c;
-    renderer.render_frame(rs, p, film, 0, c);
+    Film film = render_stress(rs, k, 32, 16, c);
     double max_dev = 0.0, sum = 0.0;
     for (size_t i = 0; i < film.count.size(); ++i) {
       vec3 v = film.mean(i);

@@ -20,22 +20,13 @@ using test::TempDir;
 
 bool have_xvfb() { return std::system("command -v xvfb-run >/dev/null 2>&1") == 0; }
 
-/// Runs ptview in a window: under xvfb-run when available (CI), else on the current display.
-RunResult run_window(const std::vector<std::string>& args, const TempDir& dir) {
-  std::string cmd = "timeout 240 ";
-  // -a alone probes display numbers from 99 and races with any other xvfb-run starting at the same moment (another
-  // test binary, a parallel CI job): start the probe at a number of our own.
-  if (have_xvfb())
-    cmd += "xvfb-run -a -n " + std::to_string(100 + ::getpid() % 800) + " -s '-screen 0 1280x1024x24' ";
-  cmd += shell_quote(PTVIEW_EXE);
-  for (const std::string& a : args) cmd += " " + shell_quote(a);
-  cmd += " >" + shell_quote(dir / "stdout") + " 2>" + shell_quote(dir / "stderr") + " </dev/null";
-  int status = std::system(cmd.c_str());
-  RunResult r;
-  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  r.out = read_file(dir / "stdout");
-  r.err = read_file(dir / "stderr");
-  return r;
+/// Runs ptview in a window: under xvfb-run when available (CI), else on the current display. xvfb-run's -a alone
+/// probes display numbers from 99 and races with any other xvfb-run starting at the same moment (another test
+/// binary, a parallel CI job), so the probe starts at a number of our own.
+RunResult run_window(const std::vector<std::string>& args) {
+  std::string wrapper;
+  if (have_xvfb()) wrapper = "xvfb-run -a -n " + std::to_string(100 + ::getpid() % 800) + " -s '-screen 0 1280x1024x24'";
+  return test::run_ptview(args, 240, wrapper);
 }
 
 #define REQUIRE_DISPLAY()                                                              \
@@ -91,7 +82,7 @@ TEST(Viewer, OpensAndShowsANonUniformImage) {
   REQUIRE_DISPLAY();
   TempDir dir;
   auto r = run_window({"--size", "256x256", "--quit-after-frames", "3", "--screenshot", dir / "shot.png",
-                       "--stats-json", dir / "stats.json"}, dir);
+                       "--stats-json", dir / "stats.json"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   Png shot(dir / "shot.png");
   ASSERT_TRUE(shot.ok());
@@ -112,7 +103,7 @@ TEST(Viewer, OrbitingChangesTheImage) {
   std::string script = write_script(dir, "wait-frames 2\nscreenshot " + dir / "a.png" +
                                              "\norbit 35 10\nexpect-restart\nwait-frames 2\nscreenshot " +
                                              dir / "b.png" + "\nquit\n");
-  auto r = run_window({"--size", "256x256", "--script", script}, dir);
+  auto r = run_window({"--size", "256x256", "--script", script});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   double d = mean_abs_diff(Png(dir / "a.png"), Png(dir / "b.png"));
   EXPECT_GT(d, 8.0);
@@ -125,7 +116,7 @@ TEST(Viewer, MaterialEditRestartsAndChangesThePickedObject) {
   std::string script = write_script(dir, "wait-frames 4\nsave " + dir / "before.pfm" +
                                              "\npick 64 200\nset-material diffuse albedo=0.05,0.05,0.9\n"
                                              "expect-restart\nwait-frames 4\nsave " + dir / "after.pfm" + "\nquit\n");
-  auto r = run_window({"--size", "256x256", "--script", script, "--stats-json", dir / "stats.json"}, dir);
+  auto r = run_window({"--size", "256x256", "--script", script, "--stats-json", dir / "stats.json"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   Result<Image> before = load_image(dir / "before.pfm"), after = load_image(dir / "after.pfm");
   ASSERT_TRUE(before.ok() && after.ok());
@@ -149,11 +140,11 @@ TEST(Viewer, ExposureDoesNotRestartButOrbitDoes) {
   TempDir dir;
   std::string ok = write_script(dir, "wait-frames 2\nexposure 2\nexpect-no-restart\ntonemap aces\nexpect-no-restart\n"
                                      "light-size 1.0 0.6\nexpect-restart\nwait-frames 2\nquit\n");
-  auto r = run_window({"--size", "128x128", "--script", ok}, dir);
+  auto r = run_window({"--size", "128x128", "--script", ok});
   EXPECT_EQ(r.exit_code, 0) << r.err;
   // The check itself can fail: an orbit is a restart.
   std::string bad = write_script(dir, "wait-frames 1\norbit 10 0\nexpect-no-restart\nquit\n");
-  r = run_window({"--size", "128x128", "--script", bad}, dir);
+  r = run_window({"--size", "128x128", "--script", bad});
   EXPECT_EQ(r.exit_code, 3) << r.err;
   EXPECT_NE(r.err.find("script.txt:3:"), std::string::npos) << r.err;
 }
@@ -179,7 +170,7 @@ TEST(Viewer, LoadingAMeshRebuildsTheBvh) {
   }
   std::string script = write_script(dir, "wait-frames 1\nload " + mesh + "\nwait-frames 2\nscreenshot " +
                                              dir / "loaded.png" + "\nquit\n");
-  auto r = run_window({"--size", "256x256", "--script", script, "--stats-json", dir / "stats.json"}, dir);
+  auto r = run_window({"--size", "256x256", "--script", script, "--stats-json", dir / "stats.json"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   auto j = nlohmann::json::parse(read_file(dir / "stats.json"));
   EXPECT_EQ(j["triangles"].get<size_t>(), expected);
