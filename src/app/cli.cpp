@@ -45,10 +45,12 @@ ParseOutcome parse_command_line(int argc, const char* const* argv) {
   AppOptions o;
   CLI::App app{"ptview: an interactive progressive path tracer. Without --frames it opens a window."};
   app.set_version_flag("--version", "ptview 0.1");
+  // A repeated option takes its last value, so scripts can append overrides.
+  app.option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
   std::string size = "512x512", integrator = "mis", light_sampling = "solid-angle";
   int frames = 0;
   double time_limit = 0;
-  long long seed = 0;
+  std::string seed = "0";
   app.add_option("scene", o.scene_path, "Scene file: .obj (materials from its .mtl) or .json; omitted: built-in scene");
   auto* frames_opt = app.add_option("--frames", frames, "Headless: render N progressive frames, write --out, exit");
   app.add_option("--spp-per-frame", o.render.spp_per_frame, "Samples per pixel added each frame (default 1)");
@@ -102,8 +104,11 @@ ParseOutcome parse_command_line(int argc, const char* const* argv) {
   }
   if (o.render.spp_per_frame < 1 || o.render.spp_per_frame > 1 << 20)
     return fail("--spp-per-frame: must be from 1 to 1048576");
-  if (seed < 0) return fail("--seed: must be non-negative");
-  o.render.seed = uint64_t(seed);
+  {
+    auto [ptr, ec] = std::from_chars(seed.data(), seed.data() + seed.size(), o.render.seed);
+    if (seed.empty() || ec != std::errc() || ptr != seed.data() + seed.size())
+      return fail("--seed: expected an integer from 0 to 18446744073709551615, got '" + seed + "'");
+  }
   if (o.render.threads < 0 || o.render.threads > 1024) return fail("--threads: must be from 0 (all cores) to 1024");
   if (o.render.max_depth < 0 || o.render.max_depth > 1000000) return fail("--max-depth: must be from 0 to 1000000");
   if (integrator == "mis") o.render.integrator = IntegratorKind::mis;

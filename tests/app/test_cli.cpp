@@ -108,6 +108,14 @@ TEST(Cli, TimeLimitStopsTheRun) {
   EXPECT_GE(j["spp"].get<int>(), 1);
 }
 
+TEST(Cli, ARepeatedOptionTakesItsLastValue) {
+  TempDir dir;
+  auto r = run_ptview({"--frames", "1", "--size", "8x8", "--out", dir / "a.png", "--size", "12x10", "--out", dir / "b.pfm"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "a.png"));
+  EXPECT_EQ(read_file(dir / "b.pfm").rfind("PF\n12 10\n", 0), 0u);
+}
+
 TEST(Cli, HelpExitsZero) {
   auto r = run_ptview({"--help"});
   EXPECT_EQ(r.exit_code, 0);
@@ -132,6 +140,9 @@ TEST(Cli, BadOptionsExitTwoWithOneLine) {
       {{"--frames", "1", "--size", "99999x10", "--out", out}, "--size"},
       {{"--frames", "1", "--spp-per-frame", "0", "--out", out}, "--spp-per-frame"},
       {{"--frames", "1", "--seed", "-1", "--out", out}, "--seed"},
+      {{"--frames", "1", "--seed", "18446744073709551616", "--out", out}, "--seed"},
+      {{"--frames", "1", "--seed", "12abc", "--out", out}, "--seed"},
+      {{"--frames", "99999999999", "--out", out}, "--frames"},
       {{"--frames", "1", "--threads", "-2", "--out", out}, "--threads"},
       {{"--frames", "1", "--max-depth", "-1", "--out", out}, "--max-depth"},
       {{"--frames", "1", "--integrator", "foo", "--out", out}, "--integrator"},
