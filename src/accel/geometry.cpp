@@ -1,5 +1,6 @@
 #include "accel/geometry.h"
 
+#include <algorithm>
 #include <chrono>
 
 #include "accel/sphere.h"
@@ -8,61 +9,33 @@ namespace pt {
 
 namespace {
 
-void fill_packed(TraceGeometry& g, std::span<const vec3> triangle_vertices, std::span<const TraceSphere> spheres) {
-  g.packed.resize(g.bvh.prim_indices.size());
-  for (size_t k = 0; k < g.packed.size(); ++k) {
-    uint32_t id = g.bvh.prim_indices[k];
-    TraceGeometry::Packed& p = g.packed[k];
-    p.prim = id;
-    if (id < g.triangle_count) {
-      p.p0 = triangle_vertices[3 * id];
-      p.p1 = triangle_vertices[3 * id + 1];
-      p.p2 = triangle_vertices[3 * id + 2];
-    } else {
-      const TraceSphere& s = spheres[id - g.triangle_count];
-      p.p0 = s.center;
-      p.p1 = vec3(s.radius, 0, 0);
-      p.p2 = vec3(0.0f);
-    }
+void fill_spheres(TraceGeometry& g, std::span<const TraceSphere> spheres) {
+  g.spheres.resize(g.sphere_bvh.prim_indices.size());
+  for (size_t k = 0; k < g.spheres.size(); ++k) {
+    const uint32_t i = g.sphere_bvh.prim_indices[k];
+    g.spheres[k] = {spheres[i].center, spheres[i].radius, g.triangle_count + i};
   }
 }
 
-AABB packed_bounds(const TraceGeometry& g, const TraceGeometry::Packed& p) {
-  AABB b;
-  if (p.prim < g.triangle_count) {
-    b.extend(p.p0);
-    b.extend(p.p1);
-    b.extend(p.p2);
-  } else {
-    b = {p.p0 - vec3(p.p1.x), p.p0 + vec3(p.p1.x)};
-  }
-  return b;
+AABB sphere_box(const TraceSphere& s) { return {s.center - vec3(s.radius), s.center + vec3(s.radius)}; }
+
+void update_bounds(TraceGeometry& g) {
+  g.bounds_all = bvh8_bounds(g.triangles);
+  if (!g.sphere_bvh.nodes.empty()) g.bounds_all.extend(g.sphere_bvh.nodes[0].bounds);
 }
 
 template <bool kAnyHit>
-bool trace(const TraceGeometry& g, Ray& ray, Hit* hit) {
-  const WatertightRay wray = make_watertight_ray(ray);
-  const uint32_t tri_count = g.triangle_count;
-  return traverse_bvh<kAnyHit>(g.bvh, ray, [&](uint32_t begin, uint32_t end, Ray& r) {
+bool trace_spheres(const TraceGeometry& g, Ray& ray, Hit* hit) {
+  return traverse_bvh<kAnyHit>(g.sphere_bvh, ray, [&](uint32_t begin, uint32_t end, Ray& r) {
     bool found = false;
     for (uint32_t k = begin; k < end; ++k) {
-      const TraceGeometry::Packed& p = g.packed[k];
-      if (p.prim < tri_count) {
-        TriangleHit th;
-        if (intersect_triangle(wray, r.tmax, p.p0, p.p1, p.p2, th)) {
-          if constexpr (kAnyHit) return true;
-          r.tmax = th.t;
-          *hit = {th.t, p.prim, th.b1, th.b2};
-          found = true;
-        }
-      } else {
-        float t = intersect_sphere(r, p.p0, p.p1.x, r.tmax);
-        if (t < r.tmax) {
-          if constexpr (kAnyHit) return true;
-          r.tmax = t;
-          *hit = {t, p.prim, 0.0f, 0.0f};
-          found = true;
-        }
+      const TraceGeometry::Sphere& s = g.spheres[k];
+      const float t = intersect_sphere(r, s.center, s.radius, r.tmax);
+      if (t < r.tmax) {
+        if constexpr (kAnyHit) return true;
+        r.tmax = t;
+        *hit = {t, s.prim, 0.0f, 0.0f};
+        found = true;
       }
     }
     return found;
@@ -73,50 +46,88 @@ bool trace(const TraceGeometry& g, Ray& ray, Hit* hit) {
 
 TraceGeometry make_trace_geometry(std::span<const vec3> triangle_vertices, std::span<const TraceSphere> spheres,
                                   const BvhBuildOptions& options) {
-  auto start = std::chrono::steady_clock::now();
+  const auto start = std::chrono::steady_clock::now();
   TraceGeometry g;
   g.triangle_count = uint32_t(triangle_vertices.size() / 3);
-  const size_t n = g.triangle_count + spheres.size();
-  std::vector<AABB> boxes(n);
-  std::vector<vec3> centers(n);
-  for (uint32_t i = 0; i < g.triangle_count; ++i) {
-    AABB b;
-    for (int k = 0; k < 3; ++k) b.extend(triangle_vertices[3 * i + k]);
-    boxes[i] = b;
-    centers[i] = b.center();
+  {
+    std::vector<AABB> boxes(g.triangle_count);
+    std::vector<vec3> centers(g.triangle_count);
+    for (uint32_t i = 0; i < g.triangle_count; ++i) {
+      AABB b;
+      for (int k = 0; k < 3; ++k) b.extend(triangle_vertices[3 * size_t(i) + k]);
+      boxes[i] = b;
+      centers[i] = b.center();
+    }
+    // Leaves are 4-wide SIMD blocks, at most two of them.
+    BvhBuildOptions tri_options = options;
+    tri_options.leaf_block_size = 4;
+    tri_options.max_leaf_size = std::clamp(options.max_leaf_size, 1, 4 * int(kMaxLeafBlocks));
+    const Bvh binary = build_bvh(boxes, centers, tri_options);
+    g.stats.binary_nodes = binary.nodes.size();
+    g.stats.depth = binary.depth;
+    g.stats.sah_cost = sah_cost(binary, options.traversal_cost);
+    g.triangles = make_bvh8(binary, triangle_vertices);
   }
-  for (size_t i = 0; i < spheres.size(); ++i) {
-    vec3 r(spheres[i].radius);
-    boxes[g.triangle_count + i] = {spheres[i].center - r, spheres[i].center + r};
-    centers[g.triangle_count + i] = spheres[i].center;
+  {
+    std::vector<AABB> boxes(spheres.size());
+    std::vector<vec3> centers(spheres.size());
+    for (size_t i = 0; i < spheres.size(); ++i) {
+      boxes[i] = sphere_box(spheres[i]);
+      centers[i] = spheres[i].center;
+    }
+    BvhBuildOptions sphere_options = options;
+    sphere_options.threads = 1;
+    g.sphere_bvh = build_bvh(boxes, centers, sphere_options);
+    fill_spheres(g, spheres);
   }
-  g.bvh = build_bvh(boxes, centers, options);
-  fill_packed(g, triangle_vertices, spheres);
-  g.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  update_bounds(g);
+  g.stats.wide_nodes = g.triangles.nodes.size();
+  g.stats.leaf_blocks = g.triangles.blocks.size();
+  g.stats.memory_bytes = g.triangles.nodes.size() * sizeof(Bvh8Node) + g.triangles.blocks.size() * sizeof(Tri4) +
+                         g.sphere_bvh.nodes.size() * sizeof(BvhNode) + g.spheres.size() * sizeof(TraceGeometry::Sphere);
+  g.build_ms = g.stats.build_ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   return g;
 }
 
 void refit_trace_geometry(TraceGeometry& g, std::span<const vec3> triangle_vertices,
                           std::span<const TraceSphere> spheres) {
-  fill_packed(g, triangle_vertices, spheres);
+  refit_bvh8(g.triangles, triangle_vertices);
+  fill_spheres(g, spheres);
   // Children always come after their parent in `nodes`, so a reverse sweep sees children first.
-  for (size_t i = g.bvh.nodes.size(); i-- > 0;) {
-    BvhNode& node = g.bvh.nodes[i];
+  for (size_t i = g.sphere_bvh.nodes.size(); i-- > 0;) {
+    BvhNode& node = g.sphere_bvh.nodes[i];
     AABB b;
     if (node.is_leaf()) {
-      for (uint32_t k = node.first; k < node.first + node.count; ++k) b.extend(packed_bounds(g, g.packed[k]));
+      for (uint32_t k = node.first; k < node.first + node.count; ++k)
+        b.extend(sphere_box({g.spheres[k].center, g.spheres[k].radius}));
     } else {
-      b = merge(g.bvh.nodes[node.first].bounds, g.bvh.nodes[node.first + 1].bounds);
+      b = merge(g.sphere_bvh.nodes[node.first].bounds, g.sphere_bvh.nodes[node.first + 1].bounds);
     }
     node.bounds = b;
   }
+  update_bounds(g);
 }
 
-bool intersect_closest(const TraceGeometry& geometry, Ray& ray, Hit& hit) { return trace<false>(geometry, ray, &hit); }
+bool intersect_closest(const TraceGeometry& g, Ray& ray, Hit& hit) {
+  bool found = false;
+  if (!g.triangles.empty()) {
+    uint32_t prim;
+    float b1, b2;
+    if (intersect_bvh8(g.triangles, ray, prim, b1, b2)) {
+      hit = {ray.tmax, prim, b1, b2};
+      found = true;
+    }
+  }
+  if (!g.spheres.empty()) found |= trace_spheres<false>(g, ray, &hit);
+  return found;
+}
 
-bool intersect_any(const TraceGeometry& geometry, const Ray& ray) {
+bool intersect_any(const TraceGeometry& g, const Ray& ray) {
+  if (!g.triangles.empty() && occluded_bvh8(g.triangles, ray)) return true;
+  if (g.spheres.empty()) return false;
   Ray r = ray;
-  return trace<true>(geometry, r, nullptr);
+  return trace_spheres<true>(g, r, nullptr);
 }
 
 }  // namespace pt

@@ -1,12 +1,12 @@
 #pragma once
-/// The traceable geometry of a scene: triangles and spheres behind one BVH. Primitive ids: [0, triangle_count) are
-/// triangles in input order, then spheres. Primitive data is stored in BVH leaf order so a leaf reads contiguous
-/// memory.
+/// The traceable geometry of a scene: triangles behind an 8-wide SIMD BVH, spheres behind a small binary BVH.
+/// Primitive ids: [0, triangle_count) are triangles in input order, then spheres.
 #include <cstdint>
 #include <span>
 #include <vector>
 
 #include "accel/bvh.h"
+#include "accel/bvh8.h"
 #include "accel/triangle.h"
 
 namespace pt {
@@ -23,21 +23,37 @@ struct TraceSphere {
   float radius;
 };
 
+/// Figures about the acceleration structure, for stats output and benchmarks.
+struct TraceStats {
+  size_t binary_nodes = 0;  ///< nodes of the binary SAH tree the wide tree was collapsed from
+  size_t wide_nodes = 0;    ///< 8-wide nodes
+  size_t leaf_blocks = 0;   ///< 4-triangle leaf blocks
+  int depth = 0;            ///< depth of the binary tree
+  float sah_cost = 0.0f;    ///< sah_cost() of the binary triangle tree
+  size_t memory_bytes = 0;  ///< nodes + leaf data of both trees (what traversal reads)
+  double build_ms = 0.0;    ///< wall time of make_trace_geometry
+};
+
 struct TraceGeometry {
-  struct Packed {  ///< a triangle (p0, p1, p2) or a sphere (p0 = center, p1.x = radius), in leaf order
-    vec3 p0, p1, p2;
+  struct Sphere {  ///< in sphere-BVH leaf order
+    vec3 center;
+    float radius;
     uint32_t prim;
   };
   uint32_t triangle_count = 0;
-  Bvh bvh;
-  std::vector<Packed> packed;
-  double build_ms = 0.0;
+  Bvh8 triangles;               ///< wide BVH over the triangles
+  Bvh sphere_bvh;               ///< binary BVH over the spheres (few: scalar traversal is fine)
+  std::vector<Sphere> spheres;  ///< sphere_bvh leaf order
+  AABB bounds_all;
+  TraceStats stats;
+  double build_ms = 0.0;  ///< same as stats.build_ms
 
-  size_t primitive_count() const { return packed.size(); }
-  AABB bounds() const { return bvh.nodes.empty() ? AABB{} : bvh.nodes[0].bounds; }
+  size_t primitive_count() const { return triangle_count + spheres.size(); }
+  AABB bounds() const { return bounds_all; }
 };
 
-/// Builds the BVH over `triangles` (vertex triples) and `spheres`. Degenerate input is allowed (it just never hits).
+/// Builds the BVHs over `triangle_vertices` (vertex triples) and `spheres`. Degenerate input is allowed (it just
+/// never hits). The triangle build runs on up to `options.threads` threads.
 TraceGeometry make_trace_geometry(std::span<const vec3> triangle_vertices, std::span<const TraceSphere> spheres,
                                   const BvhBuildOptions& options = {});
 

@@ -1,6 +1,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app/app.h"
+#include "render/trace_stats_json.h"
 
 namespace pt {
 
@@ -42,11 +43,7 @@ std::string make_stats_json(const AppOptions& options, const Scene& scene, const
   j["spheres"] = rs.geo->spheres.size();
   j["lights"] = rs.lights.lights.size();
   j["rays_by_kind"] = {{"camera", c.camera_rays}, {"bounce", c.bounce_rays}, {"shadow", c.shadow_rays}};
-  j["bvh"] = {{"build_ms", rs.trace().build_ms},
-              {"nodes", rs.trace().bvh.nodes.size()},
-              {"depth", rs.trace().bvh.depth},
-              {"sah_cost", sah_cost(rs.trace().bvh)},
-              {"primitives", rs.trace().primitive_count()}};
+  j["bvh"] = trace_stats_json(rs.trace());
   j["skipped"] = nlohmann::json::object();
   for (const auto& [name, count] : skipped_work(c)) j["skipped"][name] = count;
   j["kernel"] = kernel_name(rs, options.render);

@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 
 #include "render/camera.h"
+#include "render/trace_stats_json.h"
 #include "scene/load.h"
 
 namespace pt {
@@ -115,8 +116,7 @@ std::string ViewerState::stats_json() const {
   if (render_scene) {
     const TraceGeometry& t = render_scene->trace();
     j["triangles"] = render_scene->triangle_count();
-    j["bvh"] = {{"build_ms", t.build_ms}, {"nodes", t.bvh.nodes.size()}, {"depth", t.bvh.depth},
-                {"sah_cost", sah_cost(t.bvh)}};
+    j["bvh"] = trace_stats_json(t);
   }
   j["skipped"] = nlohmann::json::object();
   for (const auto& [name, count] : skipped_work(c)) j["skipped"][name] = count;

@@ -150,11 +150,93 @@ struct BruteForce {
   }
 };
 
+/// Every box of the wide triangle tree's slots and of the sphere tree's nodes: planes rays are aimed along.
+std::vector<AABB> node_boxes(const TraceGeometry& g) {
+  std::vector<AABB> boxes;
+  for (const Bvh8Node& node : g.triangles.nodes)
+    for (int i = 0; i < 8; ++i)
+      if (node.child[i] != kEmptyChild)
+        boxes.push_back({vec3(node.bounds[0][i], node.bounds[2][i], node.bounds[4][i]),
+                         vec3(node.bounds[1][i], node.bounds[3][i], node.bounds[5][i])});
+  for (const BvhNode& node : g.sphere_bvh.nodes) boxes.push_back(node.bounds);
+  return boxes;
+}
+
+void check_structure(const Bvh& bvh, const std::vector<AABB>& boxes, int max_leaf);
+
+/// The wide tree: every triangle in exactly one lane of one leaf block, every node reached once from the root and
+/// after its parent, every slot box equal to the union of what it holds, padding lanes marked, and leaf sizes within
+/// the limit. The sphere tree: check_structure.
+void check_trace_structure(const TraceGeometry& g, const Soup& s) {
+  const Bvh8& w = g.triangles;
+  ASSERT_EQ(g.triangle_count, s.tri_count());
+  std::vector<int> seen(s.tri_count(), 0), reached(w.nodes.size(), 0), block_used(w.blocks.size(), 0);
+  auto tri_box = [&](uint32_t p) {
+    AABB b;
+    for (int k = 0; k < 3; ++k) b.extend(s.tris[3 * size_t(p) + k]);
+    return b;
+  };
+  std::vector<uint32_t> stack;
+  if (!w.nodes.empty()) stack.push_back(0), reached[0] = 1;
+  while (!stack.empty()) {
+    const uint32_t n = stack.back();
+    stack.pop_back();
+    const Bvh8Node& node = w.nodes[n];
+    for (int i = 0; i < 8; ++i) {
+      const ChildRef ref = node.child[i];
+      const AABB slot{vec3(node.bounds[0][i], node.bounds[2][i], node.bounds[4][i]),
+                      vec3(node.bounds[1][i], node.bounds[3][i], node.bounds[5][i])};
+      if (ref == kEmptyChild) {
+        EXPECT_TRUE(slot.empty());
+        continue;
+      }
+      AABB content;
+      if (is_leaf_ref(ref)) {
+        ASSERT_LE(leaf_first(ref) + leaf_count(ref), w.blocks.size());
+        EXPECT_LE(leaf_count(ref), 2u) << "leaves hold at most 8 triangles";
+        for (uint32_t k = leaf_first(ref); k < leaf_first(ref) + leaf_count(ref); ++k) {
+          EXPECT_EQ(block_used[k]++, 0);
+          const Tri4& blk = w.blocks[k];
+          ASSERT_NE(blk.prim[0], kInvalidPrim);
+          for (int lane = 0; lane < 4; ++lane) {
+            if (blk.prim[lane] == kInvalidPrim) continue;
+            ASSERT_LT(blk.prim[lane], s.tri_count());
+            seen[blk.prim[lane]]++;
+            content.extend(tri_box(blk.prim[lane]));
+            for (int v = 0; v < 3; ++v)
+              for (int a = 0; a < 3; ++a) ASSERT_EQ(blk.v[v][a][lane], s.tris[3 * size_t(blk.prim[lane]) + v][a]);
+          }
+        }
+      } else {
+        ASSERT_GT(ref, n) << "a child comes after its parent";
+        ASSERT_LT(ref, w.nodes.size());
+        ASSERT_EQ(reached[ref]++, 0);
+        stack.push_back(ref);
+        const Bvh8Node& c = w.nodes[ref];
+        for (int j = 0; j < 8; ++j)
+          if (c.child[j] != kEmptyChild)
+            content.extend(AABB{vec3(c.bounds[0][j], c.bounds[2][j], c.bounds[4][j]),
+                                vec3(c.bounds[1][j], c.bounds[3][j], c.bounds[5][j])});
+      }
+      EXPECT_EQ(slot.lo, content.lo);
+      EXPECT_EQ(slot.hi, content.hi);
+    }
+  }
+  for (uint32_t p = 0; p < s.tri_count(); ++p) ASSERT_EQ(seen[p], 1) << "triangle " << p;
+  for (size_t i = 0; i < reached.size(); ++i) ASSERT_EQ(reached[i], 1) << "node " << i;
+  for (size_t k = 0; k < block_used.size(); ++k) ASSERT_EQ(block_used[k], 1) << "block " << k;
+  Soup only_spheres;
+  only_spheres.spheres = s.spheres;
+  check_structure(g.sphere_bvh, prim_boxes(only_spheres), 8);
+  for (size_t k = 0; k < g.spheres.size(); ++k)
+    EXPECT_EQ(g.spheres[k].prim, s.tri_count() + g.sphere_bvh.prim_indices[k]);
+}
+
 /// Rays of every kind a traversal can get wrong, by i % 10: far-away origins aimed at the scene; directions with
 /// two or one exact zero components; origins exactly on a BVH node's face plane (half of them moving inside that
 /// plane, so the slab test sees 0 * inf); rays lying in an axis plane through a triangle vertex, aimed at it;
 /// otherwise random origins in [-7,7]^3 (inside and outside the scene bounds) and random directions.
-Ray make_test_ray(Pcg32& rng, int i, const Soup& s, const Bvh& bvh) {
+Ray make_test_ray(Pcg32& rng, int i, const Soup& s, const std::vector<AABB>& boxes) {
   auto u = [&] { return rng.next_float(); };
   vec3 o = rand3(rng) * 14.0f - 7.0f;
   vec3 d = sample_uniform_sphere(vec2(u(), u()));
@@ -174,9 +256,9 @@ Ray make_test_ray(Pcg32& rng, int i, const Soup& s, const Bvh& bvh) {
       break;
     case 3:
     case 4: {
-      const BvhNode& node = bvh.nodes.empty() ? BvhNode{} : bvh.nodes[rng.next_u32() % bvh.nodes.size()];
-      if (node.bounds.empty()) break;
-      o[k] = u() < 0.5f ? node.bounds.lo[k] : node.bounds.hi[k];
+      const AABB box = boxes.empty() ? AABB{} : boxes[rng.next_u32() % boxes.size()];
+      if (box.empty()) break;
+      o[k] = u() < 0.5f ? box.lo[k] : box.hi[k];
       if (i % 10 == 3) d[k] = 0.0f, d = glm::normalize(d);
       break;
     }
@@ -204,8 +286,9 @@ void expect_matches_brute_force(const TraceGeometry& g, const Soup& s, int n_ray
   Pcg32 rng(seed, 5);
   std::vector<Ray> rays(static_cast<size_t>(n_rays));
   std::vector<int> tmax_mode(rays.size(), 0);
+  const std::vector<AABB> boxes = node_boxes(g);
   for (int i = 0; i < n_rays; ++i) {
-    rays[i] = make_test_ray(rng, i, s, g.bvh);
+    rays[i] = make_test_ray(rng, i, s, boxes);
     if (i % 3 == 1) rays[i].tmax = rng.next_float() * 12.0f;
     if (i % 6 == 2) tmax_mode[i] = 1 + int(rng.next_u32() % 3);
   }
@@ -354,13 +437,13 @@ TEST(Bvh, StructureIsSoundForTinyInputs) {
     std::vector<AABB> boxes = prim_boxes(s);
     check_structure(build_bvh(boxes, box_centers(boxes)), boxes, 8);
     TraceGeometry g = make_trace_geometry(s.tris, s.spheres);
-    check_structure(g.bvh, boxes, 8);
+    check_trace_structure(g, s);
     expect_matches_brute_force(g, s, 3000, 20 + uint64_t(n), 0);
   }
   Soup one_sphere;
   one_sphere.spheres.push_back({vec3(0.5f), 2.0f});
   TraceGeometry g = make_trace_geometry({}, one_sphere.spheres);
-  check_structure(g.bvh, prim_boxes(one_sphere), 8);
+  check_trace_structure(g, one_sphere);
   expect_matches_brute_force(g, one_sphere, 3000, 30, 2);
 }
 
@@ -368,8 +451,8 @@ TEST(Bvh, IdenticalTrianglesKeepDepthBoundedAndHit) {
   Soup s;
   for (int i = 0; i < 10000; ++i) s.tris.insert(s.tris.end(), {vec3(-1, -1, 0), vec3(1, -1, 0), vec3(0, 1, 0)});
   TraceGeometry g = make_trace_geometry(s.tris, {});
-  check_structure(g.bvh, prim_boxes(s), 8);
-  EXPECT_LE(g.bvh.depth, 12);  // median splits: ceil(log2(10000 / 8)) = 11
+  check_trace_structure(g, s);
+  EXPECT_LE(g.stats.depth, 12);  // median splits: ceil(log2(10000 / 8)) = 11
   Ray ray{vec3(0.1f, 0.2f, 3.0f), vec3(0, 0, -1), kInfinity};
   Hit hit;
   ASSERT_TRUE(intersect_closest(g, ray, hit));
@@ -386,7 +469,7 @@ TEST(Bvh, CollinearAndGeometricCentroidsKeepDepthBounded) {
     line.tris.insert(line.tris.end(), {c + vec3(0.2f, 0, 0), c + vec3(-0.1f, 0.2f, 0), c + vec3(-0.1f, -0.2f, 0.1f)});
   }
   TraceGeometry g = make_trace_geometry(line.tris, {});
-  check_structure(g.bvh, prim_boxes(line), 8);
+  check_trace_structure(g, line);
   expect_matches_brute_force(g, line, 3000, 50, 1);
   // Boxes with centroids on an axis, then spaced geometrically over 30 orders of magnitude (an SAH build peels off
   // a few primitives per level), with leaves of up to 8 and of 1.
@@ -539,15 +622,16 @@ TEST(Bvh, RefitAfterMovingGeometryStaysExact) {
   s.tris[0] += vec3(20.0f, 0, 0);  // far outside the old root box
   for (auto& sp : s.spheres) sp.radius *= 1.5f, sp.center.y += 0.5f;
   refit_trace_geometry(g, s.tris, s.spheres);
-  check_structure(g.bvh, prim_boxes(s), 8);
+  check_trace_structure(g, s);
   EXPECT_GE(g.bounds().hi.x, s.tris[0].x);
   // The motion must matter: on a fixed set of rays the old and new scenes give different answers.
   BruteForce old_brute(before), new_brute(s);
   Pcg32 ray_rng(11, 3);
   std::vector<uint8_t> mask;
   int changed = 0;
+  const std::vector<AABB> boxes = node_boxes(g);
   for (int i = 0; i < 2000; ++i) {
-    Ray ray = make_test_ray(ray_rng, i, s, g.bvh);
+    Ray ray = make_test_ray(ray_rng, i, s, boxes);
     Hit a, b;
     changed += old_brute.closest(ray, a, mask) != new_brute.closest(ray, b, mask) || a.prim != b.prim || a.t != b.t;
   }

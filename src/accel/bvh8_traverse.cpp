@@ -1,0 +1,301 @@
+/// Ray traversal of the 8-wide BVH: SIMD node and leaf tests, ordered front-to-back with a small stack, early exit
+/// for shadow rays. Everything the inner loop calls is inline in this file: no virtual call, no std::function, no
+/// allocation.
+#include <immintrin.h>
+
+#include <algorithm>
+#include <bit>
+
+#include "accel/bvh8.h"
+#include "accel/triangle.h"
+
+namespace pt {
+namespace {
+
+constexpr float kRobust = 1.0f + 2.0f * gamma_bound(3);
+
+inline uint32_t node_test_scalar(const Bvh8Node& node, const NodeRay& r, float tmax, float tnear[8]) {
+  uint32_t mask = 0;
+  for (int i = 0; i < 8; ++i) {
+    float t0 = 0.0f, t1 = tmax;
+    for (int a = 0; a < 3; ++a) {
+      const float near = (node.bounds[r.near[a]][i] - r.org[a]) * r.inv_dir[a];
+      const float far = (node.bounds[r.far[a]][i] - r.org[a]) * r.inv_dir[a];
+      t0 = near > t0 ? near : t0;  // a NaN distance leaves the interval unchanged
+      t1 = far < t1 ? far : t1;
+    }
+    t1 *= kRobust;
+    tnear[i] = t0;
+    mask |= uint32_t(t0 <= t1) << i;
+  }
+  return mask;
+}
+
+#if defined(__AVX__)
+inline uint32_t node_test_simd(const Bvh8Node& node, const NodeRay& r, float tmax, float tnear[8]) {
+  __m256 t0 = _mm256_setzero_ps(), t1 = _mm256_set1_ps(tmax);
+  for (int a = 0; a < 3; ++a) {
+    const __m256 o = _mm256_set1_ps(r.org[a]), inv = _mm256_set1_ps(r.inv_dir[a]);
+    const __m256 near = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(node.bounds[r.near[a]]), o), inv);
+    const __m256 far = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(node.bounds[r.far[a]]), o), inv);
+    t0 = _mm256_max_ps(near, t0);  // max/min return the second operand when the first is NaN
+    t1 = _mm256_min_ps(far, t1);
+  }
+  t1 = _mm256_mul_ps(t1, _mm256_set1_ps(kRobust));
+  _mm256_storeu_ps(tnear, t0);
+  return uint32_t(_mm256_movemask_ps(_mm256_cmp_ps(t0, t1, _CMP_LE_OQ)));
+}
+constexpr const char* kSimdName = "avx";
+#elif defined(__SSE2__)
+inline uint32_t node_test_simd(const Bvh8Node& node, const NodeRay& r, float tmax, float tnear[8]) {
+  uint32_t mask = 0;
+  for (int h = 0; h < 8; h += 4) {
+    __m128 t0 = _mm_setzero_ps(), t1 = _mm_set1_ps(tmax);
+    for (int a = 0; a < 3; ++a) {
+      const __m128 o = _mm_set1_ps(r.org[a]), inv = _mm_set1_ps(r.inv_dir[a]);
+      const __m128 near = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(node.bounds[r.near[a]] + h), o), inv);
+      const __m128 far = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(node.bounds[r.far[a]] + h), o), inv);
+      t0 = _mm_max_ps(near, t0);
+      t1 = _mm_min_ps(far, t1);
+    }
+    t1 = _mm_mul_ps(t1, _mm_set1_ps(kRobust));
+    _mm_storeu_ps(tnear + h, t0);
+    mask |= uint32_t(_mm_movemask_ps(_mm_cmple_ps(t0, t1))) << h;
+  }
+  return mask;
+}
+constexpr const char* kSimdName = "sse";
+#else
+inline uint32_t node_test_simd(const Bvh8Node& node, const NodeRay& r, float tmax, float tnear[8]) {
+  return node_test_scalar(node, r, tmax, tnear);
+}
+constexpr const char* kSimdName = "scalar";
+#endif
+
+/// The watertight test of triangle.h on the 4 lanes of a block, with the same operations in the same order, so
+/// each lane's result equals intersect_triangle's bit for bit. Returns the mask of lanes hit; fills t, b1, b2.
+inline int tri4_test(const Tri4& blk, const WatertightRay& w, float tmax, __m128& t_out, __m128& e1_out,
+                     __m128& e2_out, __m128& inv_det_out) {
+  const __m128 ox = _mm_set1_ps(w.org[w.kx]), oy = _mm_set1_ps(w.org[w.ky]), oz = _mm_set1_ps(w.org[w.kz]);
+  const __m128 sx = _mm_set1_ps(w.sx), sy = _mm_set1_ps(w.sy), sz = _mm_set1_ps(w.sz);
+  __m128 az = _mm_sub_ps(_mm_load_ps(blk.v[0][w.kz]), oz);
+  __m128 bz = _mm_sub_ps(_mm_load_ps(blk.v[1][w.kz]), oz);
+  __m128 cz = _mm_sub_ps(_mm_load_ps(blk.v[2][w.kz]), oz);
+  const __m128 ax = _mm_add_ps(_mm_sub_ps(_mm_load_ps(blk.v[0][w.kx]), ox), _mm_mul_ps(sx, az));
+  const __m128 ay = _mm_add_ps(_mm_sub_ps(_mm_load_ps(blk.v[0][w.ky]), oy), _mm_mul_ps(sy, az));
+  const __m128 bx = _mm_add_ps(_mm_sub_ps(_mm_load_ps(blk.v[1][w.kx]), ox), _mm_mul_ps(sx, bz));
+  const __m128 by = _mm_add_ps(_mm_sub_ps(_mm_load_ps(blk.v[1][w.ky]), oy), _mm_mul_ps(sy, bz));
+  const __m128 cx = _mm_add_ps(_mm_sub_ps(_mm_load_ps(blk.v[2][w.kx]), ox), _mm_mul_ps(sx, cz));
+  const __m128 cy = _mm_add_ps(_mm_sub_ps(_mm_load_ps(blk.v[2][w.ky]), oy), _mm_mul_ps(sy, cz));
+  __m128 e0 = _mm_sub_ps(_mm_mul_ps(bx, cy), _mm_mul_ps(by, cx));
+  __m128 e1 = _mm_sub_ps(_mm_mul_ps(cx, ay), _mm_mul_ps(cy, ax));
+  __m128 e2 = _mm_sub_ps(_mm_mul_ps(ax, by), _mm_mul_ps(ay, bx));
+  const __m128 zero = _mm_setzero_ps();
+  const __m128i prims = _mm_load_si128(reinterpret_cast<const __m128i*>(blk.prim));
+  const __m128 valid = _mm_castsi128_ps(_mm_xor_si128(_mm_cmpeq_epi32(prims, _mm_set1_epi32(-1)), _mm_set1_epi32(-1)));
+  const __m128 on_edge = _mm_and_ps(
+      valid, _mm_or_ps(_mm_or_ps(_mm_cmpeq_ps(e0, zero), _mm_cmpeq_ps(e1, zero)), _mm_cmpeq_ps(e2, zero)));
+  if (_mm_movemask_ps(on_edge)) {
+    // Exactly zero edge functions are re-evaluated in double so shared edges are decided consistently.
+    alignas(16) float fax[4], fay[4], fbx[4], fby[4], fcx[4], fcy[4], f0[4], f1[4], f2[4];
+    _mm_store_ps(fax, ax); _mm_store_ps(fay, ay); _mm_store_ps(fbx, bx); _mm_store_ps(fby, by);
+    _mm_store_ps(fcx, cx); _mm_store_ps(fcy, cy);
+    _mm_store_ps(f0, e0); _mm_store_ps(f1, e1); _mm_store_ps(f2, e2);
+    const int m = _mm_movemask_ps(on_edge);
+    for (int i = 0; i < 4; ++i) {
+      if (!(m >> i & 1)) continue;
+      f0[i] = float(double(fbx[i]) * double(fcy[i]) - double(fby[i]) * double(fcx[i]));
+      f1[i] = float(double(fcx[i]) * double(fay[i]) - double(fcy[i]) * double(fax[i]));
+      f2[i] = float(double(fax[i]) * double(fby[i]) - double(fay[i]) * double(fbx[i]));
+    }
+    e0 = _mm_load_ps(f0); e1 = _mm_load_ps(f1); e2 = _mm_load_ps(f2);
+  }
+  const __m128 neg = _mm_or_ps(_mm_or_ps(_mm_cmplt_ps(e0, zero), _mm_cmplt_ps(e1, zero)), _mm_cmplt_ps(e2, zero));
+  const __m128 pos = _mm_or_ps(_mm_or_ps(_mm_cmpgt_ps(e0, zero), _mm_cmpgt_ps(e1, zero)), _mm_cmpgt_ps(e2, zero));
+  const __m128 det = _mm_add_ps(_mm_add_ps(e0, e1), e2);
+  __m128 ok = _mm_andnot_ps(_mm_and_ps(neg, pos), _mm_and_ps(valid, _mm_cmpneq_ps(det, zero)));
+  if (!_mm_movemask_ps(ok)) return 0;
+  az = _mm_mul_ps(az, sz);
+  bz = _mm_mul_ps(bz, sz);
+  cz = _mm_mul_ps(cz, sz);
+  const __m128 t_scaled = _mm_add_ps(_mm_add_ps(_mm_mul_ps(e0, az), _mm_mul_ps(e1, bz)), _mm_mul_ps(e2, cz));
+  // With the sign of det folded into both sides: 0 < t_scaled and t_scaled <= tmax * det.
+  const __m128 sign_mask = _mm_set1_ps(-0.0f);
+  const __m128 det_sign = _mm_and_ps(det, sign_mask);
+  const __m128 ts = _mm_xor_ps(t_scaled, det_sign), abs_det = _mm_xor_ps(det, det_sign);
+  const __m128 vtmax = _mm_set1_ps(tmax);
+  ok = _mm_and_ps(ok, _mm_and_ps(_mm_cmpgt_ps(ts, zero), _mm_cmple_ps(ts, _mm_mul_ps(vtmax, abs_det))));
+  if (!_mm_movemask_ps(ok)) return 0;
+  const __m128 inv_det = _mm_div_ps(_mm_set1_ps(1.0f), det);
+  const __m128 t = _mm_mul_ps(t_scaled, inv_det);
+  ok = _mm_and_ps(ok, _mm_cmplt_ps(t, vtmax));
+  // Conservative check that t is really positive (pbrt-v4 section 6.8.4): reject hits within rounding of 0.
+  auto abs = [&](__m128 x) { return _mm_andnot_ps(sign_mask, x); };
+  auto max3 = [&](__m128 x, __m128 y, __m128 z) { return _mm_max_ps(_mm_max_ps(abs(x), abs(y)), abs(z)); };
+  const __m128 max_zt = max3(az, bz, cz), max_xt = max3(ax, bx, cx), max_yt = max3(ay, by, cy);
+  const __m128 delta_z = _mm_mul_ps(_mm_set1_ps(gamma_bound(3)), max_zt);
+  const __m128 g5 = _mm_set1_ps(gamma_bound(5));
+  const __m128 delta_x = _mm_mul_ps(g5, _mm_add_ps(max_xt, max_zt));
+  const __m128 delta_y = _mm_mul_ps(g5, _mm_add_ps(max_yt, max_zt));
+  const __m128 delta_e = _mm_mul_ps(
+      _mm_set1_ps(2.0f),
+      _mm_add_ps(_mm_add_ps(_mm_mul_ps(_mm_mul_ps(_mm_set1_ps(gamma_bound(2)), max_xt), max_yt),
+                            _mm_mul_ps(delta_y, max_xt)),
+                 _mm_mul_ps(delta_x, max_yt)));
+  const __m128 max_e = max3(e0, e1, e2);
+  const __m128 delta_t = _mm_mul_ps(
+      _mm_mul_ps(_mm_set1_ps(3.0f),
+                 _mm_add_ps(_mm_add_ps(_mm_mul_ps(_mm_mul_ps(_mm_set1_ps(gamma_bound(3)), max_e), max_zt),
+                                       _mm_mul_ps(delta_e, max_zt)),
+                            _mm_mul_ps(delta_z, max_e))),
+      abs(inv_det));
+  ok = _mm_and_ps(ok, _mm_cmpgt_ps(t, delta_t));
+  t_out = t;
+  e1_out = e1;
+  e2_out = e2;
+  inv_det_out = inv_det;
+  return _mm_movemask_ps(ok);
+}
+
+inline Tri4Hit closest_in_block(const Tri4& blk, const WatertightRay& w, float tmax) {
+  __m128 t, e1, e2, inv_det;
+  const int mask = tri4_test(blk, w, tmax, t, e1, e2, inv_det);
+  Tri4Hit hit;
+  if (!mask) return hit;
+  alignas(16) float ft[4], f1[4], f2[4], fi[4];
+  _mm_store_ps(ft, t);
+  for (int i = 0; i < 4; ++i)
+    if ((mask >> i & 1) && ft[i] < hit.t) hit.t = ft[i], hit.lane = i;  // ties: the lowest lane, as a scalar loop
+  _mm_store_ps(f1, e1);
+  _mm_store_ps(f2, e2);
+  _mm_store_ps(fi, inv_det);
+  hit.b1 = f1[hit.lane] * fi[hit.lane];
+  hit.b2 = f2[hit.lane] * fi[hit.lane];
+  return hit;
+}
+
+/// Ordered traversal. The stack holds (child, entry distance) pairs; children of a node are pushed far to near so
+/// the nearest is visited first, and popped entries beyond the current closest hit are dropped.
+template <bool kAnyHit>
+bool traverse(const Bvh8& bvh, Ray& ray, uint32_t* prim, float* b1, float* b2) {
+  if (bvh.nodes.empty()) return false;
+  const NodeRay nr = make_node_ray(ray);
+  const WatertightRay wr = make_watertight_ray(ray);
+  struct Entry {
+    ChildRef ref;
+    float t;
+  };
+  Entry stack[7 * kBvhMaxDepth + 8];
+  int top = 0;
+  bool found = false;
+  ChildRef cur = 0;
+  for (;;) {
+    while (!is_leaf_ref(cur)) {
+      const Bvh8Node& node = bvh.nodes[cur];
+      alignas(32) float tnear[8];
+      uint32_t mask = node_test_simd(node, nr, ray.tmax, tnear);
+      if (mask == 0) goto pop;
+      int first = std::countr_zero(mask);
+      mask &= mask - 1;
+      if (mask == 0) {  // one child hit: no stack traffic
+        cur = node.child[first];
+        continue;
+      }
+      if constexpr (kAnyHit) {  // order does not matter for shadow rays
+        cur = node.child[first];
+        do {
+          const int i = std::countr_zero(mask);
+          stack[top++] = {node.child[i], tnear[i]};
+          mask &= mask - 1;
+        } while (mask);
+        continue;
+      } else {
+        // Push all hit children, then insertion-sort the new entries by decreasing distance: nearest on top.
+        const int base = top;
+        stack[top++] = {node.child[first], tnear[first]};
+        do {
+          const int i = std::countr_zero(mask);
+          Entry e{node.child[i], tnear[i]};
+          int j = top++;
+          while (j > base && stack[j - 1].t < e.t) {
+            stack[j] = stack[j - 1];
+            --j;
+          }
+          stack[j] = e;
+          mask &= mask - 1;
+        } while (mask);
+        cur = stack[--top].ref;
+        continue;
+      }
+    }
+    // A leaf: ceil(n / 4) blocks.
+    {
+      const uint32_t first_block = leaf_first(cur), end_block = first_block + leaf_count(cur);
+      for (uint32_t k = first_block; k < end_block; ++k) {
+        const Tri4& blk = bvh.blocks[k];
+        if constexpr (kAnyHit) {
+          __m128 t, e1, e2, inv_det;
+          if (tri4_test(blk, wr, ray.tmax, t, e1, e2, inv_det)) return true;
+        } else {
+          const Tri4Hit h = closest_in_block(blk, wr, ray.tmax);
+          if (h.lane >= 0) {
+            ray.tmax = h.t;
+            *prim = blk.prim[h.lane];
+            *b1 = h.b1;
+            *b2 = h.b2;
+            found = true;
+          }
+        }
+      }
+    }
+  pop:
+    for (;;) {
+      if (top == 0) return found;
+      const Entry e = stack[--top];
+      if (kAnyHit || e.t <= ray.tmax) {
+        cur = e.ref;
+        break;
+      }
+    }
+  }
+}
+
+}  // namespace
+
+NodeRay make_node_ray(const Ray& ray) {
+  NodeRay r;
+  for (int a = 0; a < 3; ++a) {
+    r.org[a] = ray.org[a];
+    r.inv_dir[a] = ray.dir[a] != 0.0f ? 1.0f / ray.dir[a] : std::copysign(kInfinity, ray.dir[a]);
+    const int neg = r.inv_dir[a] < 0.0f;
+    r.near[a] = 2 * a + neg;
+    r.far[a] = 2 * a + 1 - neg;
+  }
+  return r;
+}
+
+uint32_t intersect_node8_scalar(const Bvh8Node& node, const NodeRay& ray, float tmax, float tnear[8]) {
+  return node_test_scalar(node, ray, tmax, tnear);
+}
+uint32_t intersect_node8(const Bvh8Node& node, const NodeRay& ray, float tmax, float tnear[8]) {
+  return node_test_simd(node, ray, tmax, tnear);
+}
+const char* bvh8_simd_name() { return kSimdName; }
+
+Tri4Hit intersect_tri4(const Tri4& block, const WatertightRay& ray, float tmax) {
+  return closest_in_block(block, ray, tmax);
+}
+bool occluded_tri4(const Tri4& block, const WatertightRay& ray, float tmax) {
+  __m128 t, e1, e2, inv_det;
+  return tri4_test(block, ray, tmax, t, e1, e2, inv_det) != 0;
+}
+
+bool intersect_bvh8(const Bvh8& bvh, Ray& ray, uint32_t& prim, float& b1, float& b2) {
+  return traverse<false>(bvh, ray, &prim, &b1, &b2);
+}
+bool occluded_bvh8(const Bvh8& bvh, const Ray& ray) {
+  Ray r = ray;
+  return traverse<true>(bvh, r, nullptr, nullptr, nullptr);
+}
+
+}  // namespace pt
