@@ -2,6 +2,7 @@
 #include "accel/bvh8.h"
 
 #include <algorithm>
+#include <stdexcept>
 
 namespace pt {
 namespace {
@@ -28,6 +29,13 @@ AABB slot_box(const Bvh8Node& node, int slot) {
   return b;
 }
 
+AABB node_box(const Bvh8Node& node) {
+  AABB b;
+  for (int s = 0; s < 8; ++s)
+    if (node.child[s] != kEmptyChild) b.extend(slot_box(node, s));
+  return b;
+}
+
 void fill_block(Tri4& block, std::span<const vec3> vertices) {
   for (int lane = 0; lane < 4; ++lane) {
     const uint32_t prim = block.prim[lane] != kInvalidPrim ? block.prim[lane] : block.prim[0];
@@ -48,23 +56,30 @@ struct Collapser {
   std::span<const vec3> vertices;
   Bvh8& out;
 
+  uint32_t allocate(uint32_t units) {
+    const size_t offset = out.units.size();
+    if (offset + units > kMaxArenaUnits) throw std::length_error("BVH larger than 16 GiB");
+    out.units.resize(offset + units);
+    return uint32_t(offset);
+  }
+
   ChildRef make_leaf(const BvhNode& leaf) {
-    const uint32_t first = uint32_t(out.blocks.size());
     const uint32_t count = (leaf.count + 3) / 4;
+    const uint32_t first = allocate(count * kBlockUnits);
     for (uint32_t k = 0; k < count; ++k) {
-      Tri4 block;
+      Tri4& block = out.block(first + k * kBlockUnits);
       for (uint32_t lane = 0; lane < 4; ++lane) {
         const uint32_t i = 4 * k + lane;
         block.prim[lane] = i < leaf.count ? binary.prim_indices[leaf.first + i] : kInvalidPrim;
       }
       fill_block(block, vertices);
-      out.blocks.push_back(block);
     }
+    out.block_count += count;
     return make_leaf_ref(first, count);
   }
 
-  /// Makes the wide node for binary node `index` and, depth first, its subtrees; returns the wide node's index.
-  uint32_t collapse(uint32_t index) {
+  /// Makes the wide node for binary node `index` and, depth first, its subtrees; returns the node's offset.
+  ChildRef collapse(uint32_t index) {
     uint32_t children[8];
     int n = 0;
     const BvhNode& root = binary.nodes[index];
@@ -86,19 +101,45 @@ struct Collapser {
       children[open] = first;
       children[n++] = first + 1;
     }
-    const uint32_t w = uint32_t(out.nodes.size());
-    out.nodes.emplace_back();
-    for (int a = 0; a < 6; ++a) std::fill(out.nodes[w].bounds[a], out.nodes[w].bounds[a] + 8, a % 2 ? -kInfinity : kInfinity);
-    std::fill(out.nodes[w].child, out.nodes[w].child + 8, kEmptyChild);
+    // Leaves first, so their blocks land right after this node.
+    std::stable_partition(children, children + n, [&](uint32_t c) { return binary.nodes[c].is_leaf(); });
+    const uint32_t w = allocate(kNodeUnits);
+    out.node_count++;
+    {
+      Bvh8Node& node = out.node(w);
+      for (int a = 0; a < 6; ++a) std::fill(node.bounds[a], node.bounds[a] + 8, a % 2 ? -kInfinity : kInfinity);
+      std::fill(node.child, node.child + 8, kEmptyChild);
+    }
     for (int i = 0; i < n; ++i) {
       const BvhNode& c = binary.nodes[children[i]];
       const ChildRef ref = c.is_leaf() ? make_leaf(c) : collapse(children[i]);
-      set_slot(out.nodes[w], i, c.bounds);  // out.nodes may have grown: index again
-      out.nodes[w].child[i] = ref;
+      Bvh8Node& node = out.node(w);  // the arena may have grown: look it up again
+      set_slot(node, i, c.bounds);
+      node.child[i] = ref;
     }
     return w;
   }
 };
+
+/// Refits the subtree at `ref` and returns its box.
+AABB refit_node(Bvh8& bvh, ChildRef ref, std::span<const vec3> vertices) {
+  for (int slot = 0; slot < 8; ++slot) {
+    const ChildRef c = bvh.node(ref).child[slot];
+    if (c == kEmptyChild) continue;
+    AABB b;
+    if (is_leaf_ref(c)) {
+      for (uint32_t k = 0; k < leaf_count(c); ++k) {
+        Tri4& block = bvh.block(leaf_first(c) + k * kBlockUnits);
+        fill_block(block, vertices);
+        b.extend(block_box(block, vertices));
+      }
+    } else {
+      b = refit_node(bvh, c, vertices);
+    }
+    set_slot(bvh.node(ref), slot, b);
+  }
+  return node_box(bvh.node(ref));
+}
 
 }  // namespace
 
@@ -107,37 +148,17 @@ Bvh8 make_bvh8(const Bvh& binary, std::span<const vec3> triangle_vertices) {
   if (binary.nodes.empty()) return out;
   size_t leaves = 0;
   for (const BvhNode& n : binary.nodes) leaves += n.is_leaf();
-  out.nodes.reserve(binary.nodes.size() / 4 + 1);
-  out.blocks.reserve(binary.prim_indices.size() / 2 + leaves);
+  // About one wide node per 4 binary interior nodes, and up to ceil(n/4) + leaves blocks.
+  out.units.reserve(kNodeUnits * (binary.nodes.size() / 4 + 2) +
+                    kBlockUnits * (binary.prim_indices.size() / 4 + leaves));
   Collapser{binary, triangle_vertices, out}.collapse(0);
   return out;
 }
 
 void refit_bvh8(Bvh8& bvh, std::span<const vec3> triangle_vertices) {
-  for (Tri4& block : bvh.blocks) fill_block(block, triangle_vertices);
-  for (size_t i = bvh.nodes.size(); i-- > 0;) {  // children have larger indices: a reverse sweep sees them first
-    Bvh8Node& node = bvh.nodes[i];
-    for (int slot = 0; slot < 8; ++slot) {
-      const ChildRef ref = node.child[slot];
-      if (ref == kEmptyChild) continue;
-      AABB b;
-      if (is_leaf_ref(ref)) {
-        for (uint32_t k = 0; k < leaf_count(ref); ++k) b.extend(block_box(bvh.blocks[leaf_first(ref) + k], triangle_vertices));
-      } else {
-        for (int s = 0; s < 8; ++s)
-          if (bvh.nodes[ref].child[s] != kEmptyChild) b.extend(slot_box(bvh.nodes[ref], s));
-      }
-      set_slot(node, slot, b);
-    }
-  }
+  if (!bvh.empty()) refit_node(bvh, 0, triangle_vertices);
 }
 
-AABB bvh8_bounds(const Bvh8& bvh) {
-  AABB b;
-  if (bvh.nodes.empty()) return b;
-  for (int s = 0; s < 8; ++s)
-    if (bvh.nodes[0].child[s] != kEmptyChild) b.extend(slot_box(bvh.nodes[0], s));
-  return b;
-}
+AABB bvh8_bounds(const Bvh8& bvh) { return bvh.empty() ? AABB{} : node_box(bvh.node(0)); }
 
 }  // namespace pt

@@ -9,20 +9,23 @@
 #include <vector>
 
 #include "accel/bvh.h"
+#include "core/huge_page_allocator.h"
 
 namespace pt {
 
-/// A child reference: an interior node index, or (bit 31 set) a leaf of `count` 4-triangle blocks from `first`.
+/// A child reference: an interior node's offset in the arena, or (bit 31 set) a leaf of `count` (1 to 4)
+/// consecutive 4-triangle blocks from offset `first`. Offsets count 32-byte units.
 using ChildRef = uint32_t;
 inline constexpr ChildRef kLeafBit = 0x80000000u;
 inline constexpr ChildRef kEmptyChild = 0xffffffffu;  ///< an unused slot (its box is empty, so never entered)
-inline constexpr uint32_t kMaxLeafBlocks = 16;
+inline constexpr uint32_t kMaxLeafBlocks = 4;
+inline constexpr uint32_t kMaxArenaUnits = 1u << 29;  ///< 16 GiB of tree: offsets have 29 bits
 inline bool is_leaf_ref(ChildRef r) { return (r & kLeafBit) != 0; }
-inline ChildRef make_leaf_ref(uint32_t first_block, uint32_t block_count) {
-  return kLeafBit | ((block_count - 1) << 27) | first_block;
+inline ChildRef make_leaf_ref(uint32_t first_unit, uint32_t block_count) {
+  return kLeafBit | ((block_count - 1) << 29) | first_unit;
 }
-inline uint32_t leaf_first(ChildRef r) { return r & 0x07ffffffu; }
-inline uint32_t leaf_count(ChildRef r) { return ((r >> 27) & 15u) + 1; }
+inline uint32_t leaf_first(ChildRef r) { return r & (kMaxArenaUnits - 1); }
+inline uint32_t leaf_count(ChildRef r) { return ((r >> 29) & 3u) + 1; }
 
 /// 224 bytes: the boxes of 8 children as structure of arrays, bounds[2 * axis + side][child] with side 0 the
 /// low and 1 the high plane, so a ray picks its near and far planes per axis by index, without a branch.
@@ -31,23 +34,40 @@ struct alignas(32) Bvh8Node {
   ChildRef child[8];
 };
 
-/// Four triangles as structure of arrays, v[vertex][axis][lane], so the watertight test runs on 4 lanes and a ray
-/// reads its permuted axes (kx, ky, kz) directly. Unused lanes repeat lane 0 and have prim = kInvalidPrim.
-struct alignas(16) Tri4 {
+/// 160 bytes: four triangles as structure of arrays, v[vertex][axis][lane], so the watertight test runs on 4 lanes
+/// and a ray reads its permuted axes (kx, ky, kz) directly. Unused lanes repeat lane 0 and have prim = kInvalidPrim.
+struct alignas(32) Tri4 {
   float v[3][3][4];
   uint32_t prim[4];
 };
 inline constexpr uint32_t kInvalidPrim = 0xffffffffu;
 
+/// The unit of the arena: nodes take 7, blocks 5.
+struct alignas(32) Bvh8Unit {
+  float f[8];
+};
+inline constexpr uint32_t kNodeUnits = sizeof(Bvh8Node) / sizeof(Bvh8Unit);
+inline constexpr uint32_t kBlockUnits = sizeof(Tri4) / sizeof(Bvh8Unit);
+static_assert(sizeof(Bvh8Node) % sizeof(Bvh8Unit) == 0 && sizeof(Tri4) % sizeof(Bvh8Unit) == 0);
+
+/// Nodes and leaf blocks share one array, in depth-first order with a node's leaves right after it: a leaf is
+/// usually in the same DRAM page as its parent, which measurably shortens the memory stalls of incoherent rays.
 struct Bvh8 {
-  std::vector<Bvh8Node> nodes;  ///< nodes[0] is the root; a child always has a larger index than its parent
-  std::vector<Tri4> blocks;     ///< leaf blocks in depth-first order
-  bool empty() const { return nodes.empty(); }
+  std::vector<Bvh8Unit, HugePageAllocator<Bvh8Unit>> units;  ///< the root node is at offset 0
+  size_t node_count = 0, block_count = 0;
+
+  bool empty() const { return units.empty(); }
+  const Bvh8Node& node(ChildRef r) const { return *reinterpret_cast<const Bvh8Node*>(&units[r]); }
+  Bvh8Node& node(ChildRef r) { return *reinterpret_cast<Bvh8Node*>(&units[r]); }
+  const Tri4& block(uint32_t unit) const { return *reinterpret_cast<const Tri4*>(&units[unit]); }
+  Tri4& block(uint32_t unit) { return *reinterpret_cast<Tri4*>(&units[unit]); }
+  size_t bytes() const { return units.size() * sizeof(Bvh8Unit); }
 };
 
 /// Collapses `binary` (built over the triangles; triangle i is vertices 3i..3i+2) into an 8-wide tree, opening the
 /// child with the largest surface area until a node has 8 children. Leaves of the binary tree become leaves of
-/// ceil(count / 4) blocks.
+/// ceil(count / 4) blocks. Throws std::length_error beyond kMaxArenaUnits (16 GiB of tree, about 250M
+/// triangles: more than memory allows anyway), as std::vector throws std::bad_alloc.
 Bvh8 make_bvh8(const Bvh& binary, std::span<const vec3> triangle_vertices);
 
 /// Rewrites the triangle data and all boxes after the vertices moved, keeping the topology.
@@ -61,7 +81,17 @@ struct NodeRay {
   float org[3], inv_dir[3];
   int near[3], far[3];  ///< indices into Bvh8Node::bounds
 };
-NodeRay make_node_ray(const Ray& ray);
+inline NodeRay make_node_ray(const Ray& ray) {
+  NodeRay r;
+  for (int a = 0; a < 3; ++a) {
+    r.org[a] = ray.org[a];
+    r.inv_dir[a] = ray.dir[a] != 0.0f ? 1.0f / ray.dir[a] : std::copysign(kInfinity, ray.dir[a]);
+    const int neg = r.inv_dir[a] < 0.0f;
+    r.near[a] = 2 * a + neg;
+    r.far[a] = 2 * a + 1 - neg;
+  }
+  return r;
+}
 
 /// Tests the ray against the 8 boxes of `node` for t in [0, tmax]; returns a bit mask of the boxes hit and their
 /// entry distances in `tnear`. Robust as intersect_box (Ize 2013): far distances and tmax are scaled by

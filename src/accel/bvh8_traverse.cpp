@@ -9,6 +9,8 @@
 #include "accel/bvh8.h"
 #include "accel/triangle.h"
 
+#define PT_INLINE inline __attribute__((always_inline))
+
 namespace pt {
 namespace {
 
@@ -31,50 +33,70 @@ inline uint32_t node_test_scalar(const Bvh8Node& node, const NodeRay& r, float t
   return mask;
 }
 
+/// The per-ray values of the node test, broadcast once per ray so the node loop only loads and computes.
 #if defined(__AVX__)
-inline uint32_t node_test_simd(const Bvh8Node& node, const NodeRay& r, float tmax, float tnear[8]) {
-  __m256 t0 = _mm256_setzero_ps(), t1 = _mm256_set1_ps(tmax);
-  for (int a = 0; a < 3; ++a) {
-    const __m256 o = _mm256_set1_ps(r.org[a]), inv = _mm256_set1_ps(r.inv_dir[a]);
-    const __m256 near = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(node.bounds[r.near[a]]), o), inv);
-    const __m256 far = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(node.bounds[r.far[a]]), o), inv);
-    t0 = _mm256_max_ps(near, t0);  // max/min return the second operand when the first is NaN
-    t1 = _mm256_min_ps(far, t1);
-  }
-  t1 = _mm256_mul_ps(t1, _mm256_set1_ps(kRobust));
-  _mm256_storeu_ps(tnear, t0);
-  return uint32_t(_mm256_movemask_ps(_mm256_cmp_ps(t0, t1, _CMP_LE_OQ)));
-}
+using VFloat = __m256;
+#define PT_V(op) _mm256_##op
 constexpr const char* kSimdName = "avx";
 #elif defined(__SSE2__)
-inline uint32_t node_test_simd(const Bvh8Node& node, const NodeRay& r, float tmax, float tnear[8]) {
-  uint32_t mask = 0;
-  for (int h = 0; h < 8; h += 4) {
-    __m128 t0 = _mm_setzero_ps(), t1 = _mm_set1_ps(tmax);
+using VFloat = __m128;
+#define PT_V(op) _mm_##op
+constexpr const char* kSimdName = "sse";
+#endif
+
+#if defined(__SSE2__)
+constexpr int kLanes = sizeof(VFloat) / sizeof(float);
+struct SimdNodeRay {
+  VFloat org[3], inv[3];
+  int near[3], far[3];
+  explicit SimdNodeRay(const NodeRay& r) {
     for (int a = 0; a < 3; ++a) {
-      const __m128 o = _mm_set1_ps(r.org[a]), inv = _mm_set1_ps(r.inv_dir[a]);
-      const __m128 near = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(node.bounds[r.near[a]] + h), o), inv);
-      const __m128 far = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(node.bounds[r.far[a]] + h), o), inv);
-      t0 = _mm_max_ps(near, t0);
-      t1 = _mm_min_ps(far, t1);
+      org[a] = PT_V(set1_ps)(r.org[a]);
+      inv[a] = PT_V(set1_ps)(r.inv_dir[a]);
+      near[a] = r.near[a];
+      far[a] = r.far[a];
     }
-    t1 = _mm_mul_ps(t1, _mm_set1_ps(kRobust));
-    _mm_storeu_ps(tnear + h, t0);
+  }
+};
+
+/// Same operations as node_test_scalar, kLanes boxes at a time (AVX: all 8; SSE: two halves).
+PT_INLINE uint32_t node_test_simd(const Bvh8Node& node, const SimdNodeRay& r, float tmax, float tnear[8]) {
+  uint32_t mask = 0;
+  for (int h = 0; h < 8; h += kLanes) {
+    VFloat t0 = PT_V(setzero_ps)(), t1 = PT_V(set1_ps)(tmax);
+    for (int a = 0; a < 3; ++a) {
+      const VFloat near = PT_V(mul_ps)(PT_V(sub_ps)(PT_V(load_ps)(node.bounds[r.near[a]] + h), r.org[a]), r.inv[a]);
+      const VFloat far = PT_V(mul_ps)(PT_V(sub_ps)(PT_V(load_ps)(node.bounds[r.far[a]] + h), r.org[a]), r.inv[a]);
+      t0 = PT_V(max_ps)(near, t0);  // max/min return the second operand when the first is NaN
+      t1 = PT_V(min_ps)(far, t1);
+    }
+    t1 = PT_V(mul_ps)(t1, PT_V(set1_ps)(kRobust));
+    PT_V(storeu_ps)(tnear + h, t0);
+#if defined(__AVX__)
+    mask |= uint32_t(_mm256_movemask_ps(_mm256_cmp_ps(t0, t1, _CMP_LE_OQ))) << h;
+#else
     mask |= uint32_t(_mm_movemask_ps(_mm_cmple_ps(t0, t1))) << h;
+#endif
   }
   return mask;
 }
-constexpr const char* kSimdName = "sse";
 #else
-inline uint32_t node_test_simd(const Bvh8Node& node, const NodeRay& r, float tmax, float tnear[8]) {
+using SimdNodeRay = NodeRay;
+constexpr const char* kSimdName = "scalar";
+PT_INLINE uint32_t node_test_simd(const Bvh8Node& node, const NodeRay& r, float tmax, float tnear[8]) {
   return node_test_scalar(node, r, tmax, tnear);
 }
-constexpr const char* kSimdName = "scalar";
 #endif
+
+/// Starts loading a child the traversal will visit later.
+PT_INLINE void prefetch_child(const Bvh8& bvh, ChildRef ref) {
+  const char* p = reinterpret_cast<const char*>(&bvh.units[leaf_first(ref)]);
+  for (int line = 0; line < 4; ++line) _mm_prefetch(p + 64 * line, _MM_HINT_T0);
+}
 
 /// The watertight test of triangle.h on the 4 lanes of a block, with the same operations in the same order, so
 /// each lane's result equals intersect_triangle's bit for bit. Returns the mask of lanes hit; fills t, b1, b2.
-inline int tri4_test(const Tri4& blk, const WatertightRay& w, float tmax, __m128& t_out, __m128& e1_out,
+PT_INLINE int tri4_test(const Tri4& blk, const WatertightRay& w, float tmax, __m128& t_out, __m128& e1_out,
                      __m128& e2_out, __m128& inv_det_out) {
   const __m128 ox = _mm_set1_ps(w.org[w.kx]), oy = _mm_set1_ps(w.org[w.ky]), oz = _mm_set1_ps(w.org[w.kz]);
   const __m128 sx = _mm_set1_ps(w.sx), sy = _mm_set1_ps(w.sy), sz = _mm_set1_ps(w.sz);
@@ -157,7 +179,7 @@ inline int tri4_test(const Tri4& blk, const WatertightRay& w, float tmax, __m128
   return _mm_movemask_ps(ok);
 }
 
-inline Tri4Hit closest_in_block(const Tri4& blk, const WatertightRay& w, float tmax) {
+PT_INLINE Tri4Hit closest_in_block(const Tri4& blk, const WatertightRay& w, float tmax) {
   __m128 t, e1, e2, inv_det;
   const int mask = tri4_test(blk, w, tmax, t, e1, e2, inv_det);
   Tri4Hit hit;
@@ -178,8 +200,8 @@ inline Tri4Hit closest_in_block(const Tri4& blk, const WatertightRay& w, float t
 /// the nearest is visited first, and popped entries beyond the current closest hit are dropped.
 template <bool kAnyHit>
 bool traverse(const Bvh8& bvh, Ray& ray, uint32_t* prim, float* b1, float* b2) {
-  if (bvh.nodes.empty()) return false;
-  const NodeRay nr = make_node_ray(ray);
+  if (bvh.empty()) return false;
+  const SimdNodeRay nr(make_node_ray(ray));
   const WatertightRay wr = make_watertight_ray(ray);
   struct Entry {
     ChildRef ref;
@@ -191,7 +213,7 @@ bool traverse(const Bvh8& bvh, Ray& ray, uint32_t* prim, float* b1, float* b2) {
   ChildRef cur = 0;
   for (;;) {
     while (!is_leaf_ref(cur)) {
-      const Bvh8Node& node = bvh.nodes[cur];
+      const Bvh8Node& node = bvh.node(cur);
       alignas(32) float tnear[8];
       uint32_t mask = node_test_simd(node, nr, ray.tmax, tnear);
       if (mask == 0) goto pop;
@@ -201,11 +223,23 @@ bool traverse(const Bvh8& bvh, Ray& ray, uint32_t* prim, float* b1, float* b2) {
         cur = node.child[first];
         continue;
       }
+      if constexpr (!kAnyHit) {
+        const int second = std::countr_zero(mask);
+        if ((mask & (mask - 1)) == 0) {  // two children hit, the most common case: push the farther one
+          const bool swap = tnear[second] < tnear[first];
+          const int near = swap ? second : first, far = swap ? first : second;
+          stack[top++] = {node.child[far], tnear[far]};
+          prefetch_child(bvh, node.child[far]);
+          cur = node.child[near];
+          continue;
+        }
+      }
       if constexpr (kAnyHit) {  // order does not matter for shadow rays
         cur = node.child[first];
         do {
           const int i = std::countr_zero(mask);
           stack[top++] = {node.child[i], tnear[i]};
+          prefetch_child(bvh, node.child[i]);
           mask &= mask - 1;
         } while (mask);
         continue;
@@ -216,6 +250,7 @@ bool traverse(const Bvh8& bvh, Ray& ray, uint32_t* prim, float* b1, float* b2) {
         do {
           const int i = std::countr_zero(mask);
           Entry e{node.child[i], tnear[i]};
+          prefetch_child(bvh, e.ref);
           int j = top++;
           while (j > base && stack[j - 1].t < e.t) {
             stack[j] = stack[j - 1];
@@ -230,9 +265,9 @@ bool traverse(const Bvh8& bvh, Ray& ray, uint32_t* prim, float* b1, float* b2) {
     }
     // A leaf: ceil(n / 4) blocks.
     {
-      const uint32_t first_block = leaf_first(cur), end_block = first_block + leaf_count(cur);
-      for (uint32_t k = first_block; k < end_block; ++k) {
-        const Tri4& blk = bvh.blocks[k];
+      const uint32_t first_block = leaf_first(cur), end_block = first_block + leaf_count(cur) * kBlockUnits;
+      for (uint32_t k = first_block; k < end_block; k += kBlockUnits) {
+        const Tri4& blk = bvh.block(k);
         if constexpr (kAnyHit) {
           __m128 t, e1, e2, inv_det;
           if (tri4_test(blk, wr, ray.tmax, t, e1, e2, inv_det)) return true;
@@ -262,23 +297,11 @@ bool traverse(const Bvh8& bvh, Ray& ray, uint32_t* prim, float* b1, float* b2) {
 
 }  // namespace
 
-NodeRay make_node_ray(const Ray& ray) {
-  NodeRay r;
-  for (int a = 0; a < 3; ++a) {
-    r.org[a] = ray.org[a];
-    r.inv_dir[a] = ray.dir[a] != 0.0f ? 1.0f / ray.dir[a] : std::copysign(kInfinity, ray.dir[a]);
-    const int neg = r.inv_dir[a] < 0.0f;
-    r.near[a] = 2 * a + neg;
-    r.far[a] = 2 * a + 1 - neg;
-  }
-  return r;
-}
-
 uint32_t intersect_node8_scalar(const Bvh8Node& node, const NodeRay& ray, float tmax, float tnear[8]) {
   return node_test_scalar(node, ray, tmax, tnear);
 }
 uint32_t intersect_node8(const Bvh8Node& node, const NodeRay& ray, float tmax, float tnear[8]) {
-  return node_test_simd(node, ray, tmax, tnear);
+  return node_test_simd(node, SimdNodeRay(ray), tmax, tnear);
 }
 const char* bvh8_simd_name() { return kSimdName; }
 

@@ -150,53 +150,73 @@ struct BruteForce {
   }
 };
 
+AABB slot_box(const Bvh8Node& node, int i) {
+  return {vec3(node.bounds[0][i], node.bounds[2][i], node.bounds[4][i]),
+          vec3(node.bounds[1][i], node.bounds[3][i], node.bounds[5][i])};
+}
+
+/// Offsets of the wide tree's nodes, root first, each after its parent.
+std::vector<ChildRef> wide_nodes(const Bvh8& w) {
+  std::vector<ChildRef> out;
+  if (w.empty()) return out;
+  out.push_back(0);
+  for (size_t k = 0; k < out.size(); ++k)
+    for (ChildRef c : w.node(out[k]).child)
+      if (c != kEmptyChild && !is_leaf_ref(c)) out.push_back(c);
+  return out;
+}
+
 /// Every box of the wide triangle tree's slots and of the sphere tree's nodes: planes rays are aimed along.
 std::vector<AABB> node_boxes(const TraceGeometry& g) {
   std::vector<AABB> boxes;
-  for (const Bvh8Node& node : g.triangles.nodes)
+  for (ChildRef n : wide_nodes(g.triangles))
     for (int i = 0; i < 8; ++i)
-      if (node.child[i] != kEmptyChild)
-        boxes.push_back({vec3(node.bounds[0][i], node.bounds[2][i], node.bounds[4][i]),
-                         vec3(node.bounds[1][i], node.bounds[3][i], node.bounds[5][i])});
+      if (g.triangles.node(n).child[i] != kEmptyChild) boxes.push_back(slot_box(g.triangles.node(n), i));
   for (const BvhNode& node : g.sphere_bvh.nodes) boxes.push_back(node.bounds);
   return boxes;
 }
 
 void check_structure(const Bvh& bvh, const std::vector<AABB>& boxes, int max_leaf);
 
-/// The wide tree: every triangle in exactly one lane of one leaf block, every node reached once from the root and
-/// after its parent, every slot box equal to the union of what it holds, padding lanes marked, and leaf sizes within
-/// the limit. The sphere tree: check_structure.
+/// The wide tree: every triangle in exactly one lane of one leaf block, every node and block reached once from the
+/// root and stored after its parent, nodes and blocks tiling the arena, every slot box equal to the union of what it
+/// holds, padding lanes marked, leaf sizes within the limit. The sphere tree: check_structure.
 void check_trace_structure(const TraceGeometry& g, const Soup& s) {
   const Bvh8& w = g.triangles;
   ASSERT_EQ(g.triangle_count, s.tri_count());
-  std::vector<int> seen(s.tri_count(), 0), reached(w.nodes.size(), 0), block_used(w.blocks.size(), 0);
+  std::vector<int> seen(s.tri_count(), 0), unit_owner(w.units.size(), 0);
+  auto claim = [&](uint32_t first, uint32_t units) {
+    ASSERT_LE(size_t(first) + units, w.units.size());
+    for (uint32_t u = first; u < first + units; ++u) ASSERT_EQ(unit_owner[u]++, 0) << "unit " << u << " reused";
+  };
   auto tri_box = [&](uint32_t p) {
     AABB b;
     for (int k = 0; k < 3; ++k) b.extend(s.tris[3 * size_t(p) + k]);
     return b;
   };
+  size_t nodes = 0, blocks = 0;
   std::vector<uint32_t> stack;
-  if (!w.nodes.empty()) stack.push_back(0), reached[0] = 1;
+  if (!w.empty()) stack.push_back(0), claim(0, kNodeUnits);
   while (!stack.empty()) {
     const uint32_t n = stack.back();
     stack.pop_back();
-    const Bvh8Node& node = w.nodes[n];
+    ++nodes;
+    const Bvh8Node& node = w.node(n);
     for (int i = 0; i < 8; ++i) {
       const ChildRef ref = node.child[i];
-      const AABB slot{vec3(node.bounds[0][i], node.bounds[2][i], node.bounds[4][i]),
-                      vec3(node.bounds[1][i], node.bounds[3][i], node.bounds[5][i])};
+      const AABB slot = slot_box(node, i);
       if (ref == kEmptyChild) {
         EXPECT_TRUE(slot.empty());
         continue;
       }
       AABB content;
       if (is_leaf_ref(ref)) {
-        ASSERT_LE(leaf_first(ref) + leaf_count(ref), w.blocks.size());
         EXPECT_LE(leaf_count(ref), 2u) << "leaves hold at most 8 triangles";
-        for (uint32_t k = leaf_first(ref); k < leaf_first(ref) + leaf_count(ref); ++k) {
-          EXPECT_EQ(block_used[k]++, 0);
-          const Tri4& blk = w.blocks[k];
+        ASSERT_GT(leaf_first(ref), n) << "a leaf comes after its parent";
+        claim(leaf_first(ref), leaf_count(ref) * kBlockUnits);
+        for (uint32_t k = 0; k < leaf_count(ref); ++k) {
+          ++blocks;
+          const Tri4& blk = w.block(leaf_first(ref) + k * kBlockUnits);
           ASSERT_NE(blk.prim[0], kInvalidPrim);
           for (int lane = 0; lane < 4; ++lane) {
             if (blk.prim[lane] == kInvalidPrim) continue;
@@ -209,22 +229,20 @@ void check_trace_structure(const TraceGeometry& g, const Soup& s) {
         }
       } else {
         ASSERT_GT(ref, n) << "a child comes after its parent";
-        ASSERT_LT(ref, w.nodes.size());
-        ASSERT_EQ(reached[ref]++, 0);
+        claim(ref, kNodeUnits);
         stack.push_back(ref);
-        const Bvh8Node& c = w.nodes[ref];
+        const Bvh8Node& c = w.node(ref);
         for (int j = 0; j < 8; ++j)
-          if (c.child[j] != kEmptyChild)
-            content.extend(AABB{vec3(c.bounds[0][j], c.bounds[2][j], c.bounds[4][j]),
-                                vec3(c.bounds[1][j], c.bounds[3][j], c.bounds[5][j])});
+          if (c.child[j] != kEmptyChild) content.extend(slot_box(c, j));
       }
       EXPECT_EQ(slot.lo, content.lo);
       EXPECT_EQ(slot.hi, content.hi);
     }
   }
   for (uint32_t p = 0; p < s.tri_count(); ++p) ASSERT_EQ(seen[p], 1) << "triangle " << p;
-  for (size_t i = 0; i < reached.size(); ++i) ASSERT_EQ(reached[i], 1) << "node " << i;
-  for (size_t k = 0; k < block_used.size(); ++k) ASSERT_EQ(block_used[k], 1) << "block " << k;
+  for (size_t u = 0; u < unit_owner.size(); ++u) ASSERT_EQ(unit_owner[u], 1) << "unit " << u << " unused";
+  EXPECT_EQ(nodes, w.node_count);
+  EXPECT_EQ(blocks, w.block_count);
   Soup only_spheres;
   only_spheres.spheres = s.spheres;
   check_structure(g.sphere_bvh, prim_boxes(only_spheres), 8);
