@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <array>
 #include <atomic>
+#include <memory>
 #include <numeric>
 #include <thread>
 
@@ -78,8 +79,6 @@ struct Builder {
   int max_bins;
   uint32_t max_leaf;
   uint32_t block;
-  std::vector<BvhNode>& nodes;
-  std::atomic<uint32_t> next_node{1};
   std::atomic<int> depth{0};
 
   struct Task {
@@ -205,39 +204,62 @@ struct Builder {
     return true;
   }
 
-  /// Builds the subtree of `root`; hands the larger child of big nodes to a new thread while `spare_threads` > 0.
-  void build(Task root, int spare_threads) {
+  /// Builds the subtree of `root` (a task whose node is nodes[root.node]) into `nodes`. Big nodes hand their right
+  /// child to a new thread while `spare_threads` > 0; that thread builds into its own vector (no shared counter, no
+  /// false sharing), which is appended here after the join with its child indices shifted.
+  void build(Task root, int spare_threads, std::vector<BvhNode>& nodes) {
+    struct Handoff {
+      uint32_t slot;  ///< the placeholder node in `nodes` the subtree's root replaces
+      std::vector<BvhNode> nodes;
+      std::thread thread;
+    };
+    std::vector<std::unique_ptr<Handoff>> handoffs;
     std::vector<Task> stack{root};
-    std::vector<std::thread> helpers;
     Bin bins[3][kMaxBins];  // scratch, reused by every node this thread splits
     int local_depth = 0;
     while (!stack.empty()) {
       Task t = stack.back();
       stack.pop_back();
       local_depth = std::max(local_depth, t.depth);
-      BvhNode& node = nodes[t.node];
-      node.bounds = t.bounds.box.aabb();
+      nodes[t.node].bounds = t.bounds.box.aabb();
       Task left, right;
       if (!split(t, left, right, bins)) {
-        node.first = t.begin;
-        node.count = t.end - t.begin;
+        nodes[t.node].first = t.begin;
+        nodes[t.node].count = t.end - t.begin;
         continue;
       }
-      const uint32_t first = next_node.fetch_add(2);
-      node.first = first;
-      node.count = 0;
+      const uint32_t first = uint32_t(nodes.size());
+      nodes[t.node].first = first;
+      nodes[t.node].count = 0;
+      nodes.emplace_back();
+      nodes.emplace_back();
       left.node = first;
       right.node = first + 1;
       if (spare_threads > 0 && std::min(left.end - left.begin, right.end - right.begin) >= kMinParallelPrims) {
         const int give = (spare_threads + 1) / 2;  // the new thread takes half of the spare threads with it
         spare_threads -= give;
-        helpers.emplace_back([this, right, give] { build(right, give - 1); });
+        auto h = std::make_unique<Handoff>();
+        h->slot = right.node;
+        h->nodes.reserve(2 * size_t(right.end - right.begin));
+        h->nodes.emplace_back();
+        right.node = 0;
+        h->thread = std::thread([this, right, give, hp = h.get()] { build(right, give - 1, hp->nodes); });
+        handoffs.push_back(std::move(h));
       } else {
         stack.push_back(right);
       }
       stack.push_back(left);
     }
-    for (std::thread& h : helpers) h.join();
+    for (auto& h : handoffs) {
+      h->thread.join();
+      const uint32_t base = uint32_t(nodes.size()) - 1;  // sub-tree node i >= 1 goes to base + i
+      auto moved = [&](BvhNode n) {
+        if (!n.is_leaf()) n.first += base;
+        return n;
+      };
+      nodes[h->slot] = moved(h->nodes[0]);
+      for (size_t i = 1; i < h->nodes.size(); ++i) nodes.push_back(moved(h->nodes[i]));
+    }
     int d = depth.load();
     while (local_depth > d && !depth.compare_exchange_weak(d, local_depth)) {}
   }
@@ -258,16 +280,15 @@ Bvh build_bvh(std::span<const AABB> boxes, std::span<const vec3> centers, const 
     refs[i].id = i;
     all.extend(refs[i]);
   }
-  bvh.nodes.resize(2 * size_t(n) - 1);
+  bvh.nodes.reserve(2 * size_t(n));
+  bvh.nodes.emplace_back();
   Builder b{refs,
             options,
             std::clamp(options.bins, 2, kMaxBins),
             uint32_t(std::max(1, options.max_leaf_size)),
-            uint32_t(std::max(1, options.leaf_block_size)),
-            bvh.nodes};
+            uint32_t(std::max(1, options.leaf_block_size))};
   int threads = options.threads > 0 ? options.threads : int(std::max(1u, std::thread::hardware_concurrency()));
-  b.build({0, 0, n, 0, all}, threads - 1);
-  bvh.nodes.resize(b.next_node.load());
+  b.build({0, 0, n, 0, all}, threads - 1, bvh.nodes);
   bvh.depth = b.depth.load();
   bvh.prim_indices.resize(n);
   for (uint32_t i = 0; i < n; ++i) bvh.prim_indices[i] = refs[i].id;
