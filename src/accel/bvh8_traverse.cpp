@@ -21,8 +21,14 @@ inline uint32_t node_test_scalar(const Bvh8Node& node, const NodeRay& r, float t
   for (int i = 0; i < 8; ++i) {
     float t0 = 0.0f, t1 = tmax;
     for (int a = 0; a < 3; ++a) {
-      const float near = (node.bounds[r.near[a]][i] - r.org[a]) * r.inv_dir[a];
-      const float far = (node.bounds[r.far[a]][i] - r.org[a]) * r.inv_dir[a];
+      float near, far;
+      if constexpr (kNodeTestFma) {
+        near = std::fma(node.bounds[r.near[a]][i], r.inv_dir[a], -r.org_inv_near[a]);
+        far = std::fma(node.bounds[r.far[a]][i], r.inv_dir[a], -r.org_inv_far[a]);
+      } else {
+        near = (node.bounds[r.near[a]][i] - r.org[a]) * r.inv_dir[a];
+        far = (node.bounds[r.far[a]][i] - r.org[a]) * r.inv_dir[a];
+      }
       t0 = near > t0 ? near : t0;  // a NaN distance leaves the interval unchanged
       t1 = far < t1 ? far : t1;
     }
@@ -47,11 +53,13 @@ constexpr const char* kSimdName = "sse";
 #if defined(__SSE2__)
 constexpr int kLanes = sizeof(VFloat) / sizeof(float);
 struct SimdNodeRay {
-  VFloat org[3], inv[3];
+  VFloat org[3], inv[3], org_inv_near[3], org_inv_far[3];
   int near[3], far[3];
   explicit SimdNodeRay(const NodeRay& r) {
     for (int a = 0; a < 3; ++a) {
       org[a] = PT_V(set1_ps)(r.org[a]);
+      org_inv_near[a] = PT_V(set1_ps)(r.org_inv_near[a]);
+      org_inv_far[a] = PT_V(set1_ps)(r.org_inv_far[a]);
       inv[a] = PT_V(set1_ps)(r.inv_dir[a]);
       near[a] = r.near[a];
       far[a] = r.far[a];
@@ -65,8 +73,13 @@ PT_INLINE uint32_t node_test_simd(const Bvh8Node& node, const SimdNodeRay& r, fl
   for (int h = 0; h < 8; h += kLanes) {
     VFloat t0 = PT_V(setzero_ps)(), t1 = PT_V(set1_ps)(tmax);
     for (int a = 0; a < 3; ++a) {
+#if defined(__FMA__)
+      const VFloat near = PT_V(fmsub_ps)(PT_V(load_ps)(node.bounds[r.near[a]] + h), r.inv[a], r.org_inv_near[a]);
+      const VFloat far = PT_V(fmsub_ps)(PT_V(load_ps)(node.bounds[r.far[a]] + h), r.inv[a], r.org_inv_far[a]);
+#else
       const VFloat near = PT_V(mul_ps)(PT_V(sub_ps)(PT_V(load_ps)(node.bounds[r.near[a]] + h), r.org[a]), r.inv[a]);
       const VFloat far = PT_V(mul_ps)(PT_V(sub_ps)(PT_V(load_ps)(node.bounds[r.far[a]] + h), r.org[a]), r.inv[a]);
+#endif
       t0 = PT_V(max_ps)(near, t0);  // max/min return the second operand when the first is NaN
       t1 = PT_V(min_ps)(far, t1);
     }
@@ -287,7 +300,7 @@ bool traverse(const Bvh8& bvh, Ray& ray, uint32_t* prim, float* b1, float* b2) {
     for (;;) {
       if (top == 0) return found;
       const Entry e = stack[--top];
-      if (kAnyHit || e.t <= ray.tmax) {
+      if (kAnyHit || e.t <= ray.tmax * kRobust) {  // tnear may be rounded up a little
         cur = e.ref;
         break;
       }

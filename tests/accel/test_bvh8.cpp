@@ -27,9 +27,9 @@ vec3 awkward_direction(Pcg32& rng, int i) {
   return glm::normalize(d);
 }
 
-TEST(Bvh8, SimdNodeTestEqualsScalarAndTheBinarySlabTest) {
+TEST(Bvh8, SimdNodeTestEqualsScalarAndNeverMissesWhatTheSlabTestHits) {
   Pcg32 rng(7, 1);
-  int hits = 0, lanes = 0;
+  int hits = 0, lanes = 0, extra = 0;
   for (int i = 0; i < 200000; ++i) {
     Bvh8Node node;
     AABB boxes[8];
@@ -57,16 +57,27 @@ TEST(Bvh8, SimdNodeTestEqualsScalarAndTheBinarySlabTest) {
     const uint32_t m_scalar = intersect_node8_scalar(node, nr, ray.tmax, t_scalar);
     ASSERT_EQ(m_simd, m_scalar) << "ray " << i;
     ASSERT_EQ(std::memcmp(t_simd, t_scalar, sizeof t_simd), 0) << "ray " << i;
+    // Against the binary tree's slab test: never a miss where it hits, the same entry distance within rounding;
+    // extra hits only within rounding (or, with FMA, on axes the ray is exactly parallel to: those never cull).
     const RayBoxData rd = make_ray_box_data(ray);
+    const bool parallel = ray.dir.x == 0.0f || ray.dir.y == 0.0f || ray.dir.z == 0.0f;
     for (int s = 0; s < 8; ++s) {
       if (boxes[s].empty()) {
         ASSERT_FALSE(m_simd >> s & 1);
         continue;
       }
       const float t = intersect_box(boxes[s], rd, ray.tmax);
-      ASSERT_EQ(bool(m_simd >> s & 1), t != kInfinity) << "ray " << i << " slot " << s;
+      const bool hit = m_simd >> s & 1;
       if (t != kInfinity) {
-        ASSERT_EQ(t, t_simd[s]);
+        ASSERT_TRUE(hit) << "ray " << i << " slot " << s << " missed";
+        ASSERT_LE(t_simd[s], t * (1.0f + 1e-6f)) << "ray " << i << " slot " << s;
+        if (!parallel) {  // lower by at most the widening of org * inv (see NodeRay)
+          float widening = 0.0f;
+          for (int a = 0; a < 3; ++a) widening = std::max(widening, std::abs(ray.org[a] * nr.inv_dir[a]) * 0x1p-20f);
+          ASSERT_GE(t_simd[s], t * (1.0f - 1e-6f) - widening - 1e-30f) << "ray " << i << " slot " << s;
+        }
+      } else if (hit && !parallel) {
+        ++extra;
       }
       hits += t != kInfinity;
       lanes++;
@@ -74,6 +85,8 @@ TEST(Bvh8, SimdNodeTestEqualsScalarAndTheBinarySlabTest) {
   }
   EXPECT_GT(hits, lanes / 40);  // about 5%: mostly the boxes rays were aimed at
   EXPECT_LT(hits, lanes * 9 / 10);
+  // The widening lets through degenerate boxes (points, flat) a ray passes within rounding of: rare, and only costs.
+  EXPECT_LE(extra, lanes / 200) << "boxes hit only by the node test";
   RecordProperty("simd", bvh8_simd_name());
 }
 
