@@ -4,7 +4,7 @@ BUILD_TYPE ?= Release
 JOBS ?= $(shell nproc 2>/dev/null || echo 2)
 CMAKE_FLAGS ?=
 
-.PHONY: run test build deps configure clean bench-error bench-throughput sanitize fuzz
+.PHONY: run test build deps configure clean bench-error bench-throughput sanitize fuzz bench-raycast bench-e2e bench-micro
 
 deps:
 	@bash scripts/install-deps.sh
@@ -29,6 +29,23 @@ bench-error: build
 
 bench-throughput: build
 	./$(BUILD_DIR)/bench/bench_render_throughput --csv $(BUILD_DIR)/render_throughput.csv
+
+# ptview against the Embree path tracer tutorial on bench/data/cornell36.obj; table to stdout, CSV in $(BUILD_DIR).
+bench-e2e: build
+	@PTVIEW_WITH_BENCH_DEPS=1 bash scripts/install-deps.sh
+	bash bench/e2e_vs_embree.sh $(BUILD_DIR)
+
+# Google Benchmark micro benchmarks of the triangle and box tests and the sampling warps.
+bench-micro: build
+	./$(BUILD_DIR)/bench/bench_micro_accel
+
+# Our BVH against Embree 3 (libembree-dev, a bench dependency): ray throughput, agreement, build (bench/raycast.cpp).
+# Re-configures after installing the dependencies so that a build configured without Embree picks it up.
+bench-raycast: build
+	@PTVIEW_WITH_BENCH_DEPS=1 bash scripts/install-deps.sh
+	@cmake -S . -B $(BUILD_DIR) -DCMAKE_BUILD_TYPE=$(BUILD_TYPE) $(CMAKE_FLAGS) >/dev/null
+	@cmake --build $(BUILD_DIR) -j $(JOBS) --target bench_raycast
+	./$(BUILD_DIR)/bench/bench_raycast --csv $(BUILD_DIR)/raycast.csv
 
 # The whole suite under ASan + UBSan, the concurrency tests under TSan; each fuzzer for FUZZ_SECONDS.
 FUZZ_SECONDS ?= 60

@@ -44,6 +44,13 @@ bool trace_spheres(const TraceGeometry& g, Ray& ray, Hit* hit) {
 
 }  // namespace
 
+BvhBuildOptions triangle_build_options(const BvhBuildOptions& options) {
+  BvhBuildOptions o = options;
+  o.leaf_block_size = 4;
+  o.max_leaf_size = std::clamp(options.max_leaf_size, 1, 4 * int(kMaxLeafBlocks));
+  return o;
+}
+
 TraceGeometry make_trace_geometry(std::span<const vec3> triangle_vertices, std::span<const TraceSphere> spheres,
                                   const BvhBuildOptions& options) {
   const auto start = std::chrono::steady_clock::now();
@@ -58,11 +65,7 @@ TraceGeometry make_trace_geometry(std::span<const vec3> triangle_vertices, std::
       boxes[i] = b;
       centers[i] = b.center();
     }
-    // Leaves are 4-wide SIMD blocks, at most two of them.
-    BvhBuildOptions tri_options = options;
-    tri_options.leaf_block_size = 4;
-    tri_options.max_leaf_size = std::clamp(options.max_leaf_size, 1, 4 * int(kMaxLeafBlocks));
-    const Bvh binary = build_bvh(boxes, centers, tri_options);
+    const Bvh binary = build_bvh(boxes, centers, triangle_build_options(options));
     g.stats.binary_nodes = binary.nodes.size();
     g.stats.depth = binary.depth;
     g.stats.sah_cost = sah_cost(binary, options.traversal_cost);
@@ -75,8 +78,10 @@ TraceGeometry make_trace_geometry(std::span<const vec3> triangle_vertices, std::
       boxes[i] = sphere_box(spheres[i]);
       centers[i] = spheres[i].center;
     }
+    // The sphere test runs in double precision, far costlier than a box: one sphere per leaf.
     BvhBuildOptions sphere_options = options;
     sphere_options.threads = 1;
+    sphere_options.max_leaf_size = 1;
     g.sphere_bvh = build_bvh(boxes, centers, sphere_options);
     fill_spheres(g, spheres);
   }

@@ -52,6 +52,10 @@ struct TraceGeometry {
   AABB bounds() const { return bounds_all; }
 };
 
+/// The options the triangle tree is built with: `options` with 4-triangle SIMD leaf blocks in the SAH and at most
+/// kMaxLeafBlocks blocks per leaf. Exposed so that benchmarks compare a reference build with the same options.
+BvhBuildOptions triangle_build_options(const BvhBuildOptions& options);
+
 /// Builds the BVHs over `triangle_vertices` (vertex triples) and `spheres`. Degenerate input is allowed (it just
 /// never hits). The triangle build runs on up to `options.threads` threads.
 TraceGeometry make_trace_geometry(std::span<const vec3> triangle_vertices, std::span<const TraceSphere> spheres,
