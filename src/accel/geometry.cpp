@@ -57,15 +57,18 @@ TraceGeometry make_trace_geometry(std::span<const vec3> triangle_vertices, std::
   TraceGeometry g;
   g.triangle_count = uint32_t(triangle_vertices.size() / 3);
   {
-    std::vector<AABB> boxes(g.triangle_count);
-    std::vector<vec3> centers(g.triangle_count);
-    for (uint32_t i = 0; i < g.triangle_count; ++i) {
-      AABB b;
-      for (int k = 0; k < 3; ++k) b.extend(triangle_vertices[3 * size_t(i) + k]);
-      boxes[i] = b;
-      centers[i] = b.center();
+    Bvh binary;
+    {  // the boxes are freed before the collapse allocates the wide tree: a lower peak
+      std::vector<AABB> boxes(g.triangle_count);
+      std::vector<vec3> centers(g.triangle_count);
+      for (uint32_t i = 0; i < g.triangle_count; ++i) {
+        AABB b;
+        for (int k = 0; k < 3; ++k) b.extend(triangle_vertices[3 * size_t(i) + k]);
+        boxes[i] = b;
+        centers[i] = b.center();
+      }
+      binary = build_bvh(boxes, centers, triangle_build_options(options));
     }
-    const Bvh binary = build_bvh(boxes, centers, triangle_build_options(options));
     g.stats.binary_nodes = binary.nodes.size();
     g.stats.depth = binary.depth;
     g.stats.sah_cost = sah_cost(binary, options.traversal_cost);
