@@ -64,8 +64,11 @@ TraceGeometry make_trace_geometry(std::span<const vec3> triangle_vertices, std::
       for (uint32_t i = 0; i < g.triangle_count; ++i) {
         AABB b;
         for (int k = 0; k < 3; ++k) b.extend(triangle_vertices[3 * size_t(i) + k]);
-        boxes[i] = b;
-        centers[i] = b.center();
+        // A non-finite vertex (loaders reject them; an extreme transform could still make one) never hits: an
+        // empty box keeps NaN out of the SAH and the median split's ordering.
+        const bool finite = is_finite(b.lo) && is_finite(b.hi);
+        boxes[i] = finite ? b : AABB{};
+        centers[i] = finite ? b.center() : vec3(0.0f);
       }
       binary = build_bvh(boxes, centers, triangle_build_options(options));
     }
@@ -78,8 +81,10 @@ TraceGeometry make_trace_geometry(std::span<const vec3> triangle_vertices, std::
     std::vector<AABB> boxes(spheres.size());
     std::vector<vec3> centers(spheres.size());
     for (size_t i = 0; i < spheres.size(); ++i) {
-      boxes[i] = sphere_box(spheres[i]);
-      centers[i] = spheres[i].center;
+      const AABB b = sphere_box(spheres[i]);
+      const bool finite = is_finite(b.lo) && is_finite(b.hi);
+      boxes[i] = finite ? b : AABB{};
+      centers[i] = finite ? spheres[i].center : vec3(0.0f);
     }
     // The sphere test runs in double precision, far costlier than a box: one sphere per leaf.
     BvhBuildOptions sphere_options = options;

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <cstring>
+#include <limits>
 
 #include "accel/geometry.h"
 #include "core/rng.h"
@@ -246,6 +247,44 @@ TEST(Bvh8, BinnedSahIsWithinFivePercentOfFullSweep) {
     EXPECT_LE(binned, 1.05f * sweep) << "leaf block " << block;
     EXPECT_GE(binned, 0.95f * sweep) << "leaf block " << block;
   }
+}
+
+TEST(Bvh8, NonFiniteVerticesNeverHitAndLeaveTheRestIntact) {
+  std::vector<vec3> tv = knot_triangles(60, 16);  // 1,920 triangles
+  const size_t finite_count = tv.size() / 3;
+  const float bad[] = {std::numeric_limits<float>::quiet_NaN(), kInfinity, -kInfinity};
+  for (int i = 0; i < 30; ++i) {  // 30 more triangles, each with one non-finite coordinate
+    vec3 a = tv[3 * size_t(i)], b = tv[3 * size_t(i) + 1], c = tv[3 * size_t(i) + 2];
+    c[i % 3] = bad[i % 3];
+    tv.insert(tv.end(), {a, b, c});
+  }
+  const TraceGeometry g = make_trace_geometry(tv, {});
+  EXPECT_TRUE(is_finite(g.bounds().lo) && is_finite(g.bounds().hi));
+  Pcg32 rng(5, 6);
+  int hits = 0;
+  for (int i = 0; i < 2000; ++i) {
+    const AABB b = g.bounds();
+    vec3 org = b.center() + 2.0f * glm::length(b.extent()) * sample_uniform_sphere(vec2(rng.next_float(), rng.next_float()));
+    Ray ray{org, glm::normalize(b.lo + rand3(rng) * b.extent() - org), kInfinity};
+    const WatertightRay w = make_watertight_ray(ray);
+    Hit want;
+    want.t = kInfinity;
+    bool want_hit = false;
+    for (uint32_t t = 0; t < finite_count; ++t) {
+      TriangleHit th;
+      if (intersect_triangle(w, want.t, tv[3 * t], tv[3 * t + 1], tv[3 * t + 2], th)) want = {th.t, t, 0, 0}, want_hit = true;
+    }
+    Ray r = ray;
+    Hit got;
+    ASSERT_EQ(intersect_closest(g, r, got), want_hit) << "ray " << i;
+    ASSERT_EQ(intersect_any(g, ray), want_hit) << "ray " << i;
+    if (want_hit) {
+      ASSERT_LT(got.prim, finite_count);
+      ASSERT_LE(std::abs(got.t - want.t), 1e-6f * want.t);
+      ++hits;
+    }
+  }
+  EXPECT_GT(hits, 200);
 }
 
 }  // namespace
