@@ -42,7 +42,7 @@ Row measure(const std::string& name, const Scene& scene, int threads, int size, 
     renderer.render_frame(rs, params, film, uint32_t(frames++), counters);
     elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   }
-  return {name, renderer.thread_count(), rs.trace().build_ms, frames / elapsed, counters.rays() / elapsed * 1e-6,
+  return {name, renderer.thread_count(), rs.trace().stats.build_ms, frames / elapsed, counters.rays() / elapsed * 1e-6,
           rs.triangle_count()};
 }
 

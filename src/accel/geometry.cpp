@@ -94,12 +94,9 @@ TraceGeometry make_trace_geometry(std::span<const vec3> triangle_vertices, std::
     fill_spheres(g, spheres);
   }
   update_bounds(g);
-  g.stats.wide_nodes = g.triangles.node_count;
-  g.stats.leaf_blocks = g.triangles.block_count;
   g.stats.memory_bytes = g.triangles.bytes() +
                          g.sphere_bvh.nodes.size() * sizeof(BvhNode) + g.spheres.size() * sizeof(TraceGeometry::Sphere);
-  g.build_ms = g.stats.build_ms =
-      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  g.stats.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   return g;
 }
 

@@ -26,8 +26,6 @@ struct TraceSphere {
 /// Figures about the acceleration structure, for stats output and benchmarks.
 struct TraceStats {
   size_t binary_nodes = 0;  ///< nodes of the binary SAH tree the wide tree was collapsed from
-  size_t wide_nodes = 0;    ///< 8-wide nodes
-  size_t leaf_blocks = 0;   ///< 4-triangle leaf blocks
   int depth = 0;            ///< depth of the binary tree
   float sah_cost = 0.0f;    ///< sah_cost() of the binary triangle tree
   size_t memory_bytes = 0;  ///< nodes + leaf data of both trees (what traversal reads)
@@ -46,7 +44,6 @@ struct TraceGeometry {
   std::vector<Sphere> spheres;  ///< sphere_bvh leaf order
   AABB bounds_all;
   TraceStats stats;
-  double build_ms = 0.0;  ///< same as stats.build_ms
 
   size_t primitive_count() const { return triangle_count + spheres.size(); }
   AABB bounds() const { return bounds_all; }

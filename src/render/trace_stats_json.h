@@ -9,9 +9,9 @@ namespace pt {
 inline nlohmann::json trace_stats_json(const TraceGeometry& g) {
   const TraceStats& s = g.stats;
   return {{"build_ms", s.build_ms},
-          {"nodes", s.wide_nodes + g.sphere_bvh.nodes.size()},
+          {"nodes", g.triangles.node_count + g.sphere_bvh.nodes.size()},
           {"binary_nodes", s.binary_nodes},
-          {"leaf_blocks", s.leaf_blocks},
+          {"leaf_blocks", g.triangles.block_count},
           {"depth", s.depth},
           {"sah_cost", s.sah_cost},
           {"bytes", s.memory_bytes},

@@ -140,7 +140,8 @@ void scene_panel(ViewerState& st, PanelState& ps) {
     const TraceGeometry& t = st.render_scene->trace();
     ImGui::Text("triangles %u  spheres %zu  lights %zu", st.render_scene->triangle_count(), st.render_scene->geo->spheres.size(),
                 st.render_scene->lights.lights.size());
-    ImGui::Text("BVH8 nodes %zu  blocks %zu  build %.1f ms", t.stats.wide_nodes, t.stats.leaf_blocks, t.build_ms);
+    ImGui::Text("BVH8 nodes %zu  blocks %zu  build %.1f ms", t.triangles.node_count, t.triangles.block_count,
+                t.stats.build_ms);
   }
   if (!st.status.empty()) ImGui::TextWrapped("%s", st.status.c_str());
   for (const std::string& w : st.scene.warnings) ImGui::TextColored(ImVec4(1, 0.7f, 0.3f, 1), "%s", w.c_str());
