@@ -40,10 +40,11 @@ struct BvhBuildOptions {
 };
 
 /// Binned SAH build, top-down. `boxes[i]` bounds primitive i, `centers[i]` is its representative point (centroid).
+/// Non-finite boxes count as empty (finite_or_empty) and non-finite centers as the origin.
 Bvh build_bvh(std::span<const AABB> boxes, std::span<const vec3> centers, const BvhBuildOptions& options = {});
 
 /// Reference builder: the exact SAH split over every primitive boundary on all three axes (a full sweep,
-/// O(n log^2 n)). Slow; it exists to measure how much the binned builder loses.
+/// O(n log^2 n)). Slow; it exists to measure how much the binned builder loses. Inputs must be finite.
 Bvh build_bvh_sweep(std::span<const AABB> boxes, std::span<const vec3> centers, const BvhBuildOptions& options = {});
 
 /// Expected cost of a random ray under the SAH model (MacDonald and Booth 1990), normalized by the root area:

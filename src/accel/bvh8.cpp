@@ -46,11 +46,8 @@ void fill_block(Tri4& block, std::span<const vec3> vertices) {
 
 AABB block_box(const Tri4& block, std::span<const vec3> vertices) {
   AABB b;
-  for (uint32_t prim : block.prim) {
-    if (prim == kInvalidPrim) continue;
-    const AABB t = triangle_box(vertices, prim);
-    if (is_finite(t.lo) && is_finite(t.hi)) b.extend(t);  // as make_trace_geometry: non-finite never hits
-  }
+  for (uint32_t prim : block.prim)
+    if (prim != kInvalidPrim) b.extend(finite_or_empty(triangle_box(vertices, prim)));
   return b;
 }
 

@@ -274,9 +274,10 @@ Bvh build_bvh(std::span<const AABB> boxes, std::span<const vec3> centers, const 
   std::vector<PrimRef> refs(n);
   RangeBounds all;
   for (uint32_t i = 0; i < n; ++i) {
-    const AABB& b = boxes[i];
+    const AABB b = finite_or_empty(boxes[i]);
+    const vec3 c = is_finite(centers[i]) ? centers[i] : vec3(0.0f);  // no NaN in the bins or the median's order
     refs[i].box = {_mm_setr_ps(b.lo.x, b.lo.y, b.lo.z, 0.0f), _mm_setr_ps(b.hi.x, b.hi.y, b.hi.z, 0.0f)};
-    refs[i].center = _mm_setr_ps(centers[i].x, centers[i].y, centers[i].z, 0.0f);
+    refs[i].center = _mm_setr_ps(c.x, c.y, c.z, 0.0f);
     refs[i].id = i;
     all.extend(refs[i]);
   }

@@ -64,11 +64,8 @@ TraceGeometry make_trace_geometry(std::span<const vec3> triangle_vertices, std::
       for (uint32_t i = 0; i < g.triangle_count; ++i) {
         AABB b;
         for (int k = 0; k < 3; ++k) b.extend(triangle_vertices[3 * size_t(i) + k]);
-        // A non-finite vertex (loaders reject them; an extreme transform could still make one) never hits: an
-        // empty box keeps NaN out of the SAH and the median split's ordering.
-        const bool finite = is_finite(b.lo) && is_finite(b.hi);
-        boxes[i] = finite ? b : AABB{};
-        centers[i] = finite ? b.center() : vec3(0.0f);
+        boxes[i] = b;
+        centers[i] = b.center();
       }
       binary = build_bvh(boxes, centers, triangle_build_options(options));
     }
@@ -81,10 +78,8 @@ TraceGeometry make_trace_geometry(std::span<const vec3> triangle_vertices, std::
     std::vector<AABB> boxes(spheres.size());
     std::vector<vec3> centers(spheres.size());
     for (size_t i = 0; i < spheres.size(); ++i) {
-      const AABB b = sphere_box(spheres[i]);
-      const bool finite = is_finite(b.lo) && is_finite(b.hi);
-      boxes[i] = finite ? b : AABB{};
-      centers[i] = finite ? spheres[i].center : vec3(0.0f);
+      boxes[i] = sphere_box(spheres[i]);
+      centers[i] = spheres[i].center;
     }
     // The sphere test runs in double precision, far costlier than a box: one sphere per leaf.
     BvhBuildOptions sphere_options = options;
@@ -110,7 +105,7 @@ void refit_trace_geometry(TraceGeometry& g, std::span<const vec3> triangle_verti
     AABB b;
     if (node.is_leaf()) {
       for (uint32_t k = node.first; k < node.first + node.count; ++k)
-        b.extend(sphere_box({g.spheres[k].center, g.spheres[k].radius}));
+        b.extend(finite_or_empty(sphere_box({g.spheres[k].center, g.spheres[k].radius})));
     } else {
       b = merge(g.sphere_bvh.nodes[node.first].bounds, g.sphere_bvh.nodes[node.first + 1].bounds);
     }

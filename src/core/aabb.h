@@ -25,4 +25,9 @@ struct AABB {
 
 inline AABB merge(AABB a, const AABB& b) { a.extend(b); return a; }
 
+/// The box if both corners are finite, else the empty box. BVH builders and refits bound primitives with it, so a
+/// primitive with a non-finite coordinate (the loaders reject them; an extreme transform could still make one) is in
+/// no node box, never hits, and keeps NaN out of the SAH.
+inline AABB finite_or_empty(const AABB& b) { return is_finite(b.lo) && is_finite(b.hi) ? b : AABB{}; }
+
 }  // namespace pt
