@@ -64,20 +64,18 @@ const Batch& batch() {
     }
     for (size_t k = 0; k < kCount / 8; ++k) {
       Bvh8Node n;
-      for (int s = 0; s < 8; ++s)
-        for (int a = 0; a < 3; ++a) {
-          n.bounds[2 * a][s] = d.boxes[8 * k + s].lo[a];
-          n.bounds[2 * a + 1][s] = d.boxes[8 * k + s].hi[a];
-          n.child[s] = uint32_t(s);
-        }
+      for (int s = 0; s < 8; ++s) {
+        set_slot(n, s, d.boxes[8 * k + s]);
+        n.child[s] = uint32_t(s);
+      }
       d.nodes.push_back(n);
     }
     for (size_t k = 0; k < kCount / 4; ++k) {
       Tri4 blk;
       for (int lane = 0; lane < 4; ++lane) {
+        const auto& t = d.triangles[4 * k + lane];
         blk.prim[lane] = uint32_t(4 * k + lane);
-        for (int v = 0; v < 3; ++v)
-          for (int a = 0; a < 3; ++a) blk.v[v][a][lane] = d.triangles[4 * k + lane][v][a];
+        set_lane(blk, lane, t[0], t[1], t[2]);
       }
       d.blocks.push_back(blk);
     }

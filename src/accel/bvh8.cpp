@@ -13,22 +13,6 @@ AABB triangle_box(std::span<const vec3> v, uint32_t prim) {
   return b;
 }
 
-void set_slot(Bvh8Node& node, int slot, const AABB& b) {
-  for (int a = 0; a < 3; ++a) {
-    node.bounds[2 * a][slot] = b.lo[a];
-    node.bounds[2 * a + 1][slot] = b.hi[a];
-  }
-}
-
-AABB slot_box(const Bvh8Node& node, int slot) {
-  AABB b;
-  for (int a = 0; a < 3; ++a) {
-    b.lo[a] = node.bounds[2 * a][slot];
-    b.hi[a] = node.bounds[2 * a + 1][slot];
-  }
-  return b;
-}
-
 AABB node_box(const Bvh8Node& node) {
   AABB b;
   for (int s = 0; s < 8; ++s)
@@ -38,9 +22,8 @@ AABB node_box(const Bvh8Node& node) {
 
 void fill_block(Tri4& block, std::span<const vec3> vertices) {
   for (int lane = 0; lane < 4; ++lane) {
-    const uint32_t prim = block.prim[lane] != kInvalidPrim ? block.prim[lane] : block.prim[0];
-    for (int k = 0; k < 3; ++k)
-      for (int a = 0; a < 3; ++a) block.v[k][a][lane] = vertices[3 * size_t(prim) + k][a];
+    const size_t prim = block.prim[lane] != kInvalidPrim ? block.prim[lane] : block.prim[0];
+    set_lane(block, lane, vertices[3 * prim], vertices[3 * prim + 1], vertices[3 * prim + 2]);
   }
 }
 

@@ -34,6 +34,22 @@ struct alignas(32) Bvh8Node {
   ChildRef child[8];
 };
 
+/// Writes and reads the box of child `slot`.
+inline void set_slot(Bvh8Node& node, int slot, const AABB& b) {
+  for (int a = 0; a < 3; ++a) {
+    node.bounds[2 * a][slot] = b.lo[a];
+    node.bounds[2 * a + 1][slot] = b.hi[a];
+  }
+}
+inline AABB slot_box(const Bvh8Node& node, int slot) {
+  AABB b;
+  for (int a = 0; a < 3; ++a) {
+    b.lo[a] = node.bounds[2 * a][slot];
+    b.hi[a] = node.bounds[2 * a + 1][slot];
+  }
+  return b;
+}
+
 /// 160 bytes: four triangles as structure of arrays, v[vertex][axis][lane], so the watertight test runs on 4 lanes
 /// and a ray reads its permuted axes (kx, ky, kz) directly. Unused lanes repeat lane 0 and have prim = kInvalidPrim.
 struct alignas(32) Tri4 {
@@ -41,6 +57,13 @@ struct alignas(32) Tri4 {
   uint32_t prim[4];
 };
 inline constexpr uint32_t kInvalidPrim = 0xffffffffu;
+
+/// Writes triangle (p0, p1, p2) into `lane` (the prim id is set separately).
+inline void set_lane(Tri4& block, int lane, vec3 p0, vec3 p1, vec3 p2) {
+  const vec3 p[3] = {p0, p1, p2};
+  for (int k = 0; k < 3; ++k)
+    for (int a = 0; a < 3; ++a) block.v[k][a][lane] = p[k][a];
+}
 
 /// The unit of the arena: nodes take 7, blocks 5.
 struct alignas(32) Bvh8Unit {

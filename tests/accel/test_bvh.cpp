@@ -150,11 +150,6 @@ struct BruteForce {
   }
 };
 
-AABB slot_box(const Bvh8Node& node, int i) {
-  return {vec3(node.bounds[0][i], node.bounds[2][i], node.bounds[4][i]),
-          vec3(node.bounds[1][i], node.bounds[3][i], node.bounds[5][i])};
-}
-
 /// Offsets of the wide tree's nodes, root first, each after its parent.
 std::vector<ChildRef> wide_nodes(const Bvh8& w) {
   std::vector<ChildRef> out;

@@ -39,10 +39,7 @@ TEST(Bvh8, SimdNodeTestEqualsScalarAndNeverMissesWhatTheSlabTestHits) {
       if (s == 5) b.y = a.y;                                                          // slot 5: flat
       boxes[s] = {a, b};
       if (s == 7 && i % 2) boxes[s] = AABB{};  // an empty slot, as make_bvh8 writes it
-      for (int ax = 0; ax < 3; ++ax) {
-        node.bounds[2 * ax][s] = boxes[s].lo[ax];
-        node.bounds[2 * ax + 1][s] = boxes[s].hi[ax];
-      }
+      set_slot(node, s, boxes[s]);
       node.child[s] = uint32_t(s);
     }
     Ray ray{rand3(rng) * 6.0f - 3.0f, awkward_direction(rng, i), kInfinity};
@@ -106,8 +103,7 @@ void fill_awkward_block(Pcg32& rng, int i, Tri4& blk, vec3 (&tri)[4][3], int& va
   for (int lane = 0; lane < 4; ++lane) {
     const int src = lane < valid ? lane : 0;
     blk.prim[lane] = lane < valid ? uint32_t(100 + lane) : kInvalidPrim;
-    for (int k = 0; k < 3; ++k)
-      for (int a = 0; a < 3; ++a) blk.v[k][a][lane] = tri[src][k][a];
+    set_lane(blk, lane, tri[src][0], tri[src][1], tri[src][2]);
   }
 }
 
