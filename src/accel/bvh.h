@@ -39,6 +39,12 @@ struct BvhBuildOptions {
   int threads = 0;  ///< build threads; 0 = all hardware threads
 };
 
+/// What a leaf of `count` primitives costs in the SAH, in primitive tests: whole blocks of leaf_block_size.
+inline float sah_leaf_tests(uint32_t count, const BvhBuildOptions& options) {
+  const uint32_t block = options.leaf_block_size > 1 ? uint32_t(options.leaf_block_size) : 1u;
+  return float((count + block - 1) / block * block);
+}
+
 /// Binned SAH build, top-down. `boxes[i]` bounds primitive i, `centers[i]` is its representative point (centroid).
 /// Non-finite boxes count as empty (finite_or_empty) and non-finite centers as the origin.
 Bvh build_bvh(std::span<const AABB> boxes, std::span<const vec3> centers, const BvhBuildOptions& options = {});

@@ -3,15 +3,13 @@
 ///
 /// Speed comes from three habits of fast builders (Embree, madmann91/bvh): the primitive references are one
 /// contiguous array that is partitioned in place, so every pass reads memory in order; one pass bins all three
-/// axes; and each bin also records the bounds of its centroids, so a child's box and centroid box come out of the
-/// parent's binning and no node needs a separate bounds pass.
+/// axes; and the partition collects both children's box and centroid bounds as it goes, so no node needs a
+/// separate bounds pass.
 #include <immintrin.h>
 
 #include <algorithm>
-#include <array>
 #include <atomic>
 #include <memory>
-#include <numeric>
 #include <thread>
 
 #include "accel/bvh.h"
@@ -78,7 +76,6 @@ struct Builder {
   const BvhBuildOptions& options;
   int max_bins;
   uint32_t max_leaf;
-  uint32_t block;
   std::atomic<int> depth{0};
 
   struct Task {
@@ -87,8 +84,7 @@ struct Builder {
     RangeBounds bounds;
   };
 
-  /// Leaf cost in primitive tests: whole SIMD blocks.
-  float blocks(uint32_t count) const { return float((count + block - 1) / block * block); }
+  float blocks(uint32_t count) const { return sah_leaf_tests(count, options); }
 
   /// Small nodes get fewer bins: with as many bins as primitives the binned split is already close to a sweep.
   int bins_for(uint32_t count) const { return std::clamp(int(count), std::min(8, max_bins), max_bins); }
@@ -286,8 +282,7 @@ Bvh build_bvh(std::span<const AABB> boxes, std::span<const vec3> centers, const 
   Builder b{refs,
             options,
             std::clamp(options.bins, 2, kMaxBins),
-            uint32_t(std::max(1, options.max_leaf_size)),
-            uint32_t(std::max(1, options.leaf_block_size))};
+            uint32_t(std::max(1, options.max_leaf_size))};
   int threads = options.threads > 0 ? options.threads : int(std::max(1u, std::thread::hardware_concurrency()));
   b.build({0, 0, n, 0, all}, threads - 1, bvh.nodes);
   bvh.depth = b.depth.load();

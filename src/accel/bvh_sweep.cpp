@@ -16,10 +16,7 @@ struct SweepBuilder {
   Bvh& bvh;
   std::vector<float> right_area;
 
-  float blocks(uint32_t n) const {
-    const uint32_t b = uint32_t(std::max(1, options.leaf_block_size));
-    return float((n + b - 1) / b * b);
-  }
+  float blocks(uint32_t n) const { return sah_leaf_tests(n, options); }
 
   void build(uint32_t node, uint32_t begin, uint32_t end, int depth) {
     bvh.depth = std::max(bvh.depth, depth);
