@@ -103,6 +103,7 @@ PT_INLINE uint32_t node_test_simd(const Bvh8Node& node, const NodeRay& r, float 
 
 /// Starts loading a child the traversal will visit later.
 PT_INLINE void prefetch_child(const Bvh8& bvh, ChildRef ref) {
+  // leaf_first strips the leaf bit and count: what is left is the arena offset, of a node or of a leaf alike.
   const char* p = reinterpret_cast<const char*>(&bvh.units[leaf_first(ref)]);
   for (int line = 0; line < 4; ++line) _mm_prefetch(p + 64 * line, _MM_HINT_T0);
 }
