@@ -5,10 +5,11 @@ set -euo pipefail
 
 packages=(
   build-essential cmake pkg-config python3
-  libglm-dev libtinyobjloader-dev libcli11-dev nlohmann-json3-dev libstb-dev libopenexr-dev
+  libglm-dev libtinyobjloader-dev libtinygltf-dev libcli11-dev nlohmann-json3-dev libstb-dev libopenexr-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libglfw3-dev libimgui-dev python3-glad libgl-dev
   xvfb xauth libgl1-mesa-dri
+  openmpi-bin libopenmpi-dev  # MPI: optional at build time, installed so make test runs the MPI tests
 )
 if [ "${PTVIEW_WITH_CI_TOOLS:-0}" = "1" ]; then
   packages+=(clang libclang-rt-14-dev util-linux)  # fuzzing (libFuzzer) and setarch for ThreadSanitizer
