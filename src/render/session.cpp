@@ -11,8 +11,13 @@ RenderSession::RenderSession(int threads) {
 }
 
 RenderSession::~RenderSession() {
-  driver_.request_stop();
-  cancel_ = true;
+  {
+    // Under the lock, like restart(): otherwise the driver, having just checked for a stop while taking up a new
+    // epoch, could reset cancel_ after this and render a whole frame before it notices the stop.
+    std::lock_guard lock(mutex_);
+    driver_.request_stop();
+    cancel_ = true;
+  }
   wake_.notify_all();
 }
 
