@@ -2,6 +2,10 @@
 // exactly as a direct render would (same samples, same image).
 #include <gtest/gtest.h>
 
+#include <condition_variable>
+#include <cstdio>
+#include <cstdlib>
+#include <mutex>
 #include <thread>
 
 #include "render/session.h"
@@ -48,6 +52,15 @@ TEST(Session, FinalStateMatchesADirectRender) {
   EXPECT_EQ(f.counters.samples, c.samples);
 }
 
+/// The mean after `frames` frames rendered directly, the image a session of the same state must publish.
+Image direct_render(const RenderScene& rs, const RenderParams& p, int frames) {
+  Renderer r(1);
+  Film film(p.width, p.height);
+  RenderCounters c;
+  for (int k = 0; k < frames; ++k) r.render_frame(rs, p, film, uint32_t(k), c);
+  return film.resolve();
+}
+
 TEST(Session, PausedSessionKeepsItsImageAndResumes) {
   auto rs = std::make_shared<RenderScene>(make_render_scene(test::make_test_cornell()));
   RenderParams p;
@@ -58,24 +71,52 @@ TEST(Session, PausedSessionKeepsItsImageAndResumes) {
   session.set_paused(true);
   std::this_thread::sleep_for(std::chrono::milliseconds(50));
   SessionFrame a;
-  session.fetch(a);
+  session.fetch(a);  // at most one frame was in flight when pausing: this is the paused state
+  ASSERT_EQ(a.epoch, e);
+  ASSERT_GE(a.frames, 2);
+  EXPECT_EQ(a.image.rgb, direct_render(*rs, p, a.frames).rgb);
   std::this_thread::sleep_for(std::chrono::milliseconds(100));
   SessionFrame b = a;
   EXPECT_FALSE(session.fetch(b));  // nothing new while paused
+  EXPECT_EQ(b.image.rgb, a.image.rgb);
+  // Resuming continues the same accumulation: frames a.frames, a.frames + 1, ... are added to the kept image, so
+  // the result equals a direct render of that many frames (a cleared film or repeated frames would differ).
   session.set_paused(false);
-  wait_for_frames(session, e, a.frames + 2);
+  SessionFrame c = wait_for_frames(session, e, a.frames + 2);
+  EXPECT_EQ(c.epoch, e);
+  EXPECT_EQ(c.spp, c.frames * p.spp_per_frame);
+  EXPECT_EQ(c.image.rgb, direct_render(*rs, p, c.frames).rgb);
+  EXPECT_NE(c.image.rgb, a.image.rgb);
 }
 
 TEST(Session, DestroyingWhileRenderingDoesNotHang) {
+  // A watchdog of its own: if destruction hangs, the test fails (abort with a message) instead of blocking ctest
+  // until its 900 s timeout. 120 s is generous: each destruction waits for at most one 256x256 tile row of work.
+  std::mutex m;
+  std::condition_variable cv;
+  bool done = false;
+  std::thread watchdog([&] {
+    std::unique_lock lock(m);
+    if (!cv.wait_for(lock, std::chrono::seconds(120), [&] { return done; })) {
+      std::fprintf(stderr, "Session.DestroyingWhileRenderingDoesNotHang: destructor hung for 120 s\n");
+      std::abort();
+    }
+  });
   auto rs = std::make_shared<RenderScene>(make_render_scene(test::make_test_cornell()));
   RenderParams p;
   p.width = p.height = 256;
+  p.spp_per_frame = 16;  // a frame takes far longer than the 5 ms below: destruction meets a frame in flight
   for (int i = 0; i < 5; ++i) {
     RenderSession session(2);
     session.restart(rs, p);
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
   }
-  SUCCEED();
+  {
+    std::lock_guard lock(m);
+    done = true;
+  }
+  cv.notify_all();
+  watchdog.join();
 }
 
 }  // namespace
