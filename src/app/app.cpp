@@ -24,6 +24,12 @@ int run_app(int argc, const char* const* argv) {
     std::fprintf(stderr, "ptview: error: %s\n", scene.error().c_str());
     return 2;
   }
+  if (options.camera) {
+    if (std::string e = select_camera(*scene, size_t(*options.camera)); !e.empty()) {
+      std::fprintf(stderr, "ptview: error: --camera: %s\n", e.c_str());
+      return 2;
+    }
+  }
   if (options.headless()) return run_headless(options, *scene);
 #ifdef PTVIEW_HAS_VIEWER
   return run_viewer(options.render, options.display, options.viewer, std::move(*scene));

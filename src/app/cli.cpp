@@ -51,7 +51,7 @@ ParseOutcome parse_command_line(int argc, const char* const* argv) {
   int frames = 0;
   double time_limit = 0;
   std::string seed = "0";
-  app.add_option("scene", o.scene_path, "Scene file: .obj (materials from its .mtl) or .json; omitted: built-in scene");
+  app.add_option("scene", o.scene_path, "Scene file: .obj (materials from its .mtl), .json, .gltf or .glb; omitted: built-in scene");
   auto* frames_opt = app.add_option("--frames", frames, "Headless: render N progressive frames, write --out, exit");
   app.add_option("--spp-per-frame", o.render.spp_per_frame, "Samples per pixel added each frame (default 1)");
   app.add_option("--size", size, "Image size WxH (default 512x512)");
@@ -74,6 +74,8 @@ ParseOutcome parse_command_line(int argc, const char* const* argv) {
   auto* quit_opt = app.add_option("--quit-after-frames", quit_after, "Viewer: quit after N rendered frames");
   app.add_option("--screenshot", o.viewer.screenshot, "Viewer: save a PNG of the window at exit");
   app.add_option("--script", o.viewer.script, "Viewer: run scripted input from FILE");
+  app.add_option("--camera", o.camera, "Use camera N of the scene file (glTF cameras in node order, from 0)")
+      ->check(CLI::NonNegativeNumber);
 
   ParseOutcome result;
   try {

@@ -22,6 +22,7 @@ struct AppOptions {
   std::string reference;
   std::string error_csv;
   std::optional<double> time_limit;  ///< seconds
+  std::optional<int> camera;         ///< --camera N: the scene file's camera N (glTF cameras, in node order)
   ViewerHooks viewer;                ///< windowed mode only
 
   bool headless() const { return frames.has_value() || time_limit.has_value(); }

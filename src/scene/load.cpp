@@ -43,6 +43,25 @@ Result<Scene> guarded(const std::string& source, F&& load) {
   }
 }
 
+Result<Scene> load_json_file(const std::string& path) {
+  Result<std::string> text = read_text_file(path);
+  if (!text) return Error{text.error()};
+  return parse_json_scene(*text, path);
+}
+
+/// Every scene type load_scene opens: the one place that maps extensions to loaders (the viewer's drop and open
+/// go through load_scene, so they get every type listed here).
+struct SceneLoader {
+  std::string_view extension;  ///< lower case, with its dot
+  Result<Scene> (*load)(const std::string& path);
+};
+constexpr SceneLoader kLoaders[] = {
+    {".json", &load_json_file},
+    {".obj", &load_obj_scene},
+    {".gltf", &load_gltf_scene},
+    {".glb", &load_gltf_scene},
+};
+
 bool same_parameters(const Material& a, const Material& b) {
   return a.type == b.type && a.albedo == b.albedo && a.ior == b.ior && a.emission == b.emission;
 }
@@ -107,25 +126,27 @@ Result<Scene> load_builtin_scene(std::string_view name) {
   });
 }
 
+std::string supported_scene_extensions() {
+  std::string s;
+  for (size_t i = 0; i < std::size(kLoaders); ++i)
+    s += std::string(i == 0 ? "" : i + 1 == std::size(kLoaders) ? " or " : ", ") + std::string(kLoaders[i].extension);
+  return s;
+}
+
 Result<Scene> load_scene(const std::string& path) {
   if (path.starts_with(kBuiltinPrefix)) return load_builtin_scene(std::string_view(path).substr(kBuiltinPrefix.size()));
   return guarded(path, [&]() -> Result<Scene> {
     std::string ext = lower_extension(path);
-    Result<Scene> scene = Error{""};
-    if (ext == ".json") {
-      Result<std::string> text = read_text_file(path);
-      if (!text) return Error{text.error()};
-      scene = parse_json_scene(*text, path);
-    } else if (ext == ".obj") {
-      scene = load_obj_scene(path);
-    } else {
-      struct stat st;
-      if (::stat(path.c_str(), &st) != 0) return Error{path + ": cannot open: " + std::strerror(errno)};
-      return Error{path + ": unsupported scene type " +
-                   (ext.empty() ? std::string("(no extension)") : "'" + ext + "'") + " (expected .obj or .json)"};
+    for (const SceneLoader& l : kLoaders) {
+      if (ext != l.extension) continue;
+      Result<Scene> scene = l.load(path);
+      if (scene) finalize_scene(*scene);
+      return scene;
     }
-    if (scene) finalize_scene(*scene);
-    return scene;
+    struct stat st;
+    if (::stat(path.c_str(), &st) != 0) return Error{path + ": cannot open: " + std::strerror(errno)};
+    return Error{path + ": unsupported scene type " + (ext.empty() ? std::string("(no extension)") : "'" + ext + "'") +
+                 " (expected " + supported_scene_extensions() + ")"};
   });
 }
 

@@ -1,6 +1,6 @@
 #pragma once
-/// Scene loading. The only place that knows file formats: load_json.cpp and load_obj.cpp are the only files that
-/// include nlohmann/json or tinyobjloader. Every function returns a scene or a one-line error
+/// Scene loading. The only place that knows file formats: load_json.cpp, load_obj.cpp and load_gltf.cpp are the only
+/// files that include nlohmann/json, tinyobjloader or tinygltf. Every function returns a scene or a one-line error
 /// "FILE:LINE: reason" (LINE where the format has lines); none throws.
 #include <string>
 #include <string_view>
@@ -13,7 +13,8 @@ namespace pt {
 /// The scene ptview opens when given no file: the Cornell box with a glass and a mirror sphere.
 inline constexpr std::string_view kDefaultSceneName = "cornell-spheres";
 
-/// Dispatches on the extension: ".json" (schema version 1, README) or ".obj" (materials from its .mtl).
+/// Dispatches on the extension: ".json" (schema version 1, README), ".obj" (materials from its .mtl), ".gltf" or
+/// ".glb" (glTF 2.0).
 /// The result is finalized (see finalize_scene).
 Result<Scene> load_scene(const std::string& path);
 
@@ -25,5 +26,13 @@ Result<Scene> parse_json_scene(std::string_view text, const std::string& path);
 
 /// Loads an OBJ file (and its .mtl) as a scene with one mesh; not finalized.
 Result<Scene> load_obj_scene(const std::string& path);
+
+/// Loads a .gltf or .glb (default scene) as a scene with one mesh; the first perspective camera, if any, becomes
+/// the scene's camera and all of them are listed in Scene::cameras. Not finalized.
+Result<Scene> load_gltf_scene(const std::string& path);
+
+/// The scene types load_scene opens, by lower-case extension ("(.obj, .json, .gltf, .glb)" in messages and
+/// file dialogs).
+std::string supported_scene_extensions();
 
 }  // namespace pt

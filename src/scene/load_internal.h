@@ -120,7 +120,7 @@ inline bool parse_integer(std::string_view s, long long& out) {
 /// one with a taken name is renamed "NAME#2", "NAME#3", ...
 uint32_t add_material(Scene& scene, Material m);
 
-/// A triangle mesh read from an OBJ file with its MTL materials. Mesh::materials index into `materials`, which
+/// A triangle mesh read from an OBJ file with its MTL materials (or from a glTF, see GltfData). Mesh::materials index into `materials`, which
 /// holds only the materials some face uses.
 struct ObjData {
   Mesh mesh;
@@ -131,6 +131,16 @@ struct ObjData {
 /// Reads and validates an OBJ (load_obj.cpp). With `use_mtl` false the .mtl is neither read nor warned about and
 /// every face gets material 0 of an empty list: the caller overrides it.
 Result<ObjData> read_obj(const std::string& path, bool use_mtl);
+
+/// A glTF scene read as one world-space mesh (load_gltf.cpp) and its perspective cameras in node order.
+struct GltfData {
+  ObjData geometry;
+  std::vector<Camera> cameras;
+};
+
+/// Reads and validates a .gltf or .glb. With `use_materials` false every triangle gets material 0 of an empty list
+/// (the caller overrides it) and no material is mapped or warned about.
+Result<GltfData> read_gltf(const std::string& path, bool use_materials);
 
 /// Appends `obj`'s mesh to `scene` with its materials interned (add_material), or with every face set to
 /// `override_material` when that is >= 0; its warnings are appended too.

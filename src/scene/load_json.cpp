@@ -184,6 +184,7 @@ class SceneBuilder {
     if (!(glm::length(glm::cross(glm::normalize(forward), glm::normalize(c.up))) > 1e-6f))
       (up ? *up : where).fail("camera up is parallel to the view direction");
     scene.camera = c;
+    json_camera_ = true;
   }
 
   Material parse_material(const Node& n, const std::string& name) {
@@ -259,26 +260,58 @@ class SceneBuilder {
   }
 
   void parse_mesh(const Node& n) {
-    check_keys(n, {"type", "file", "generate", "material", "transform"});
+    check_keys(n, {"type", "file", "generate", "material", "transform", "camera"});
     auto file = n.get("file"), generate = n.get("generate"), transform = n.get("transform");
     if (file && generate) generate->fail("a mesh has either \"file\" or \"generate\", not both");
-    if (!file && !generate) n.fail("missing \"file\" (an .obj path; or \"generate\")");
+    if (!file && !generate) n.fail("missing \"file\" (an .obj, .gltf or .glb path; or \"generate\")");
     int override_material = n.get("material") ? int(material_of(n)) : -1;
     Transform t;
     if (transform) t = parse_transform(*transform);
     ObjData obj;
+    bool gltf = false;
     if (generate) {
       if (override_material < 0) override_material = int(add_material(scene, Material{"default"}));
       obj.mesh = generate_mesh(*generate);
     } else {
       std::filesystem::path p(file->string());
       if (p.is_relative()) p = dir_ / p;
-      Result<ObjData> r = read_obj(p.lexically_normal().string(), override_material < 0);
-      if (!r) file->fail(r.error());
-      obj = std::move(*r);
+      std::string ext = p.extension().string();
+      for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+      gltf = ext == ".gltf" || ext == ".glb";
+      if (gltf) {
+        Result<GltfData> r = read_gltf(p.lexically_normal().string(), override_material < 0);
+        if (!r) file->fail(r.error());
+        obj = std::move(r->geometry);
+        add_gltf_cameras(n, r->cameras, t);
+      } else {
+        Result<ObjData> r = read_obj(p.lexically_normal().string(), override_material < 0);
+        if (!r) file->fail(r.error());
+        obj = std::move(*r);
+      }
     }
+    if (auto camera = n.get("camera"); camera && !gltf) camera->fail("\"camera\" picks a camera of a .gltf/.glb file");
     apply_transform(obj.mesh, t);
     append_obj(scene, std::move(obj), override_material);
+  }
+
+  /// A glTF shape's cameras, moved by the shape's transform, join Scene::cameras (for --camera N); "camera": N on
+  /// the shape makes its camera N the scene's camera, unless the scene JSON has a "camera" of its own.
+  void add_gltf_cameras(const Node& shape, const std::vector<Camera>& cameras, const Transform& t) {
+    size_t first = scene.cameras.size();
+    for (Camera c : cameras) {
+      c.eye = t.linear * c.eye + t.translation;
+      c.target = t.linear * c.target + t.translation;
+      c.up = t.linear * c.up;
+      scene.cameras.push_back(c);
+    }
+    auto pick = shape.get("camera");
+    if (!pick) return;
+    int index = pick->integer(0, 1 << 20);
+    if (size_t(index) >= cameras.size())
+      pick->fail("camera " + std::to_string(index) + " out of range (the file has " + std::to_string(cameras.size()) +
+                 " perspective cameras)");
+    if (json_camera_) pick->fail("the scene already has a \"camera\"");
+    scene.camera = scene.cameras[first + size_t(index)];
   }
 
   Transform parse_transform(const Node& n) {
@@ -329,6 +362,7 @@ class SceneBuilder {
   size_t located_warnings_ = 0, unshown_warnings_ = 0;
   std::filesystem::path dir_;
   std::unordered_map<std::string, uint32_t> material_ids_;
+  bool json_camera_ = false;
 };
 
 /// "FILE:LINE: invalid JSON (column C): reason" from nlohmann's parse_error, whose message reads

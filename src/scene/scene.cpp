@@ -88,6 +88,14 @@ Camera framing_camera(const AABB& bounds) {
   return cam;
 }
 
+std::string select_camera(Scene& scene, size_t index) {
+  if (index >= scene.cameras.size())
+    return "camera " + std::to_string(index) + " out of range (" + scene.source + " defines " +
+           std::to_string(scene.cameras.size()) + " perspective camera" + (scene.cameras.size() == 1 ? "" : "s") + ")";
+  scene.camera = scene.cameras[index];
+  return "";
+}
+
 void finalize_scene(Scene& scene) {
   AABB b = scene.bounds();
   if (!scene.camera) scene.camera = framing_camera(b);

@@ -59,6 +59,7 @@ struct Mesh {
 struct Scene {
   std::string source;                  ///< the file it came from, or "builtin:NAME"
   std::optional<Camera> camera;        ///< absent: frame the bounds (see finalize_scene)
+  std::vector<Camera> cameras;         ///< the cameras a file defines (glTF), for --camera N; may be empty
   std::optional<vec3> background;      ///< constant radiance of escaping rays; absent means black
   std::vector<Material> materials;
   std::vector<Mesh> meshes;
@@ -78,6 +79,9 @@ struct Scene {
 /// A camera on the +z side of `bounds` looking down -z at their center, far enough that their bounding sphere fits
 /// a 40-degree vertical field of view with a 10% margin; up is +y. Empty or non-finite bounds give Camera{}.
 Camera framing_camera(const AABB& bounds);
+
+/// Makes scene.cameras[index] the scene's camera (--camera N); returns "" or why it cannot.
+std::string select_camera(Scene& scene, size_t index);
 
 /// Gives a scene what it needs to render and did not say: a camera framing its bounds when it has none, and a
 /// rectangle light above its bounds (with a warning) when it has no emitter and no background.

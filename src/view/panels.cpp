@@ -132,7 +132,7 @@ void light_panel(ViewerState& st) {
 void scene_panel(ViewerState& st, PanelState& ps) {
   ImGui::TextWrapped("%s", st.scene.source.c_str());
   input_text("path", ps.open_path);
-  if (ImGui::Button("open OBJ / JSON") && !ps.open_path.empty()) st.start_load(ps.open_path);
+  if (ImGui::Button("open OBJ / JSON / glTF") && !ps.open_path.empty()) st.start_load(ps.open_path);
   ImGui::SameLine();
   ImGui::TextDisabled("(or drop a file)");
   if (st.loading.valid()) ImGui::TextColored(ImVec4(1, 0.8f, 0.3f, 1), "loading %s ...", st.loading_path.c_str());

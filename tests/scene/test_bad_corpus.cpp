@@ -89,6 +89,20 @@ const BadCase kCases[] = {
   {"normal_index_out_of_range.obj", 5, "face normal index 2 out of range"},
   {"texcoord_index_out_of_range.obj", 6, "face texture coordinate index 2 out of range"},
   {"bad_mtl.obj",                 1, "helpers/bad.mtl:3: Ks: expected 1 or 3 finite numbers"},
+  // glTF (no lines: "FILE: reason")
+  {"glb_truncated.glb",           0, "truncated .glb"},
+  {"glb_wrong_magic.glb",         0, "wrong magic"},
+  {"gltf_missing_bin.gltf",       0, "no-such.bin"},
+  {"gltf_bad_data_uri.gltf",      0, "uri"},
+  {"gltf_accessor_out_of_range.gltf", 0, "mesh 0 'tri' primitive 0: POSITION accessor 4 out of range"},
+  {"gltf_view_past_buffer_end.gltf", 0, "bufferView 0: bytes 8 + 36 overlap the end of buffer 0 (36 bytes)"},
+  {"gltf_accessor_past_view_end.gltf", 0, "accessor 0: 3 elements from byte 4 overlap the end of bufferView 0"},
+  {"gltf_index_past_vertex_count.gltf", 0, "mesh 0 'tri' primitive 0: index 7 past the vertex count 3"},
+  {"gltf_nonfinite_position.gltf", 0, "non-finite vertex position"},
+  {"gltf_overflowing_matrix.gltf", 0, "node 0: non-finite transformed position"},
+  {"gltf_cyclic_nodes.gltf",      0, "cyclic node graph"},
+  {"gltf_required_extension.gltf", 0, "unsupported required extension 'KHR_draco_mesh_compression'"},
+  {"mesh_with_bad_gltf.json",     4, "gltf_cyclic_nodes.gltf: cyclic node graph"},
 };
 // clang-format on
 
@@ -114,7 +128,7 @@ TEST(BadCorpus, EveryBadSceneFileIsInTheTable) {
   size_t files = 0;
   for (const auto& e : fs::directory_iterator(bad_dir())) {
     std::string ext = e.path().extension().string();
-    if (ext != ".json" && ext != ".obj") continue;
+    if (ext != ".json" && ext != ".obj" && ext != ".gltf" && ext != ".glb") continue;
     ++files;
     EXPECT_TRUE(listed.count(e.path().filename().string())) << "not in the table: " << e.path();
   }

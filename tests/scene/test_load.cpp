@@ -177,7 +177,7 @@ TEST(Load, ExtensionDecidesTheFormat) {
   EXPECT_TRUE(obj->has_emitter() && json->has_emitter());
   Result<Scene> mtl = load_scene(dir + "materials.mtl");
   ASSERT_FALSE(mtl.ok());
-  EXPECT_EQ(mtl.error(), dir + "materials.mtl: unsupported scene type '.mtl' (expected .obj or .json)");
+  EXPECT_EQ(mtl.error(), dir + "materials.mtl: unsupported scene type '.mtl' (expected .json, .obj, .gltf or .glb)");
 }
 
 }  // namespace

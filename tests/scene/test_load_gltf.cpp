@@ -1,0 +1,409 @@
+// glTF 2.0 loading: geometry (indices, interleaving, strips, sparse), node transforms, cameras, the material
+// mapping, .glb, glTF inside scene JSON, and every kind of bad input as one "FILE: reason" line.
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <filesystem>
+#include <functional>
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "gltf_fixture.h"
+#include "scene/load.h"
+
+namespace pt {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+using test::GltfBuilder;
+
+struct TempDir {
+  fs::path path;
+  TempDir() {
+    path = fs::temp_directory_path() / ("ptview-gltf-" + std::to_string(::getpid()) + "-" +
+                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::create_directories(path);
+  }
+  ~TempDir() { fs::remove_all(path); }
+  std::string operator/(const std::string& f) const { return (path / f).string(); }
+};
+
+const std::vector<vec3> kTriangle = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+
+Scene load_ok(const std::string& path) {
+  Result<Scene> r = load_scene(path);
+  EXPECT_TRUE(r.ok()) << r.error();
+  return r.ok() ? std::move(*r) : Scene{};
+}
+
+std::string load_error(const std::string& path) {
+  Result<Scene> r = load_scene(path);
+  EXPECT_FALSE(r.ok()) << path << " loaded";
+  if (r.ok()) return "";
+  EXPECT_EQ(r.error().find('\n'), std::string::npos);
+  EXPECT_TRUE(r.error().starts_with(path + ":")) << r.error();
+  return r.error();
+}
+
+/// Bounds of the meshes only (finalize_scene may add a default light above them).
+AABB mesh_bounds(const Scene& s) {
+  AABB b;
+  for (const Mesh& m : s.meshes)
+    for (uvec3 t : m.indices)
+      for (int k = 0; k < 3; ++k) b.extend(m.positions[t[k]]);
+  return b;
+}
+
+bool has_warning(const Scene& s, const std::string& piece) {
+  for (const std::string& w : s.warnings)
+    if (w.find(piece) != std::string::npos) return true;
+  return false;
+}
+
+TEST(Gltf, EmbeddedTriangle) {
+  TempDir dir;
+  GltfBuilder b;
+  b.node({{"mesh", b.mesh(b.positions(kTriangle))}});
+  test::write_file(dir / "t.gltf", b.embedded());
+  Scene s = load_ok(dir / "t.gltf");
+  ASSERT_EQ(s.meshes.size(), 1u);
+  ASSERT_EQ(s.meshes[0].indices.size(), 1u);
+  for (int k = 0; k < 3; ++k) EXPECT_EQ(s.meshes[0].positions[s.meshes[0].indices[0][k]], kTriangle[size_t(k)]);
+  EXPECT_EQ(s.materials[s.meshes[0].materials[0]].name, "default");
+  EXPECT_TRUE(s.meshes[0].normals.empty());
+}
+
+template <class T>
+void box_with_indices() {
+  TempDir dir;
+  std::vector<vec3> p;
+  for (int i = 0; i < 8; ++i) p.push_back(vec3(i & 1 ? 1 : -1, i & 2 ? 1 : -1, i & 4 ? 1 : -1));
+  std::vector<T> idx = {0, 2, 1, 1, 2, 3, 4, 5, 6, 5, 7, 6, 0, 1, 4, 1, 5, 4,
+                        2, 6, 3, 3, 6, 7, 0, 4, 2, 2, 4, 6, 1, 3, 5, 3, 7, 5};
+  GltfBuilder b;
+  b.node({{"mesh", b.mesh(b.positions(p), b.indices(idx))}});
+  test::write_file(dir / "box.gltf", b.embedded());
+  Scene s = load_ok(dir / "box.gltf");
+  ASSERT_EQ(s.meshes.size(), 1u);
+  const Mesh& m = s.meshes[0];
+  ASSERT_EQ(m.indices.size(), 12u);
+  for (size_t t = 0; t < 12; ++t)
+    for (int k = 0; k < 3; ++k) EXPECT_EQ(m.positions[m.indices[t][k]], p[idx[3 * t + size_t(k)]]);
+  EXPECT_EQ(mesh_bounds(s).lo, vec3(-1.0f));
+  EXPECT_EQ(mesh_bounds(s).hi, vec3(1.0f));
+}
+TEST(Gltf, BoxWithUnsignedByteIndices) { box_with_indices<uint8_t>(); }
+TEST(Gltf, BoxWithUnsignedShortIndices) { box_with_indices<uint16_t>(); }
+TEST(Gltf, BoxWithUnsignedIntIndices) { box_with_indices<uint32_t>(); }
+
+TEST(Gltf, InterleavedPositionsAndNormals) {
+  TempDir dir;
+  // position, normal, position, normal, ... in one view with a 24-byte stride.
+  std::vector<vec3> data;
+  vec3 normals[3] = {{0, 0, 1}, {0, 0.6f, 0.8f}, {0.6f, 0, 0.8f}};
+  for (int i = 0; i < 3; ++i) {
+    data.push_back(kTriangle[size_t(i)]);
+    data.push_back(normals[i]);
+  }
+  GltfBuilder b;
+  int v = b.view(data.data(), data.size() * 12, 24);
+  int pos = b.accessor(v, 0, 5126, 3, "VEC3"), nrm = b.accessor(v, 12, 5126, 3, "VEC3");
+  b.node({{"mesh", b.mesh(pos, -1, -1, nrm)}});
+  test::write_file(dir / "i.gltf", b.embedded());
+  Scene s = load_ok(dir / "i.gltf");
+  const Mesh& m = s.meshes[0];
+  ASSERT_EQ(m.indices.size(), 1u);
+  ASSERT_EQ(m.normal_indices.size(), 1u);
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_EQ(m.positions[m.indices[0][k]], kTriangle[size_t(k)]);
+    EXPECT_NEAR(glm::distance(m.normals[m.normal_indices[0][k]], normals[k]), 0.0f, 1e-6f);
+  }
+}
+
+TEST(Gltf, StripsAndFansAreConvertedPointsAndLinesSkipped) {
+  TempDir dir;
+  std::vector<vec3> quad = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}};
+  GltfBuilder b;
+  int strip = b.mesh(b.positions(quad), -1, -1, -1, 5);
+  std::vector<vec3> fan = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+  int fan_mesh = b.mesh(b.positions(fan), -1, -1, -1, 6);
+  b.j["meshes"][size_t(fan_mesh)]["name"] = "fanny";
+  b.j["meshes"][size_t(fan_mesh)]["primitives"].push_back({{"attributes", {{"POSITION", 0}}}, {"mode", 1}});
+  b.node({{"mesh", strip}});
+  b.node({{"mesh", fan_mesh}, {"translation", {0, 0, 2}}});
+  test::write_file(dir / "s.gltf", b.embedded());
+  Scene s = load_ok(dir / "s.gltf");
+  const Mesh& m = s.meshes[0];
+  ASSERT_EQ(m.indices.size(), 4u);
+  for (uvec3 t : m.indices) {  // every triangle faces +z: the winding was kept
+    vec3 n = glm::cross(m.positions[t.y] - m.positions[t.x], m.positions[t.z] - m.positions[t.x]);
+    EXPECT_GT(n.z, 0.0f);
+  }
+  EXPECT_TRUE(has_warning(s, "mesh 1 'fanny': 1 lines primitive skipped")) << s.warnings.size();
+}
+
+TEST(Gltf, SparseAccessorIsApplied) {
+  TempDir dir;
+  GltfBuilder b;
+  int pos = b.positions(kTriangle);
+  std::vector<uint8_t> which = {2};
+  std::vector<vec3> value = {{0, 3, 0}};
+  int iv = b.view(which.data(), 1), vv = b.view(value.data(), 12);
+  b.j["accessors"][size_t(pos)]["sparse"] = {
+      {"count", 1}, {"indices", {{"bufferView", iv}, {"componentType", 5121}}}, {"values", {{"bufferView", vv}}}};
+  b.node({{"mesh", b.mesh(pos)}});
+  test::write_file(dir / "sp.gltf", b.embedded());
+  Scene s = load_ok(dir / "sp.gltf");
+  EXPECT_EQ(mesh_bounds(s).hi, vec3(1, 3, 0));
+}
+
+TEST(Gltf, NodeHierarchyWithTrsMatricesAndInstancing) {
+  TempDir dir;
+  GltfBuilder b;
+  int mesh = b.mesh(b.positions(kTriangle));
+  // Parent: translate (10,0,0) * rotate 90 degrees about z * scale 2. Child: a matrix translating by (0,5,0).
+  double h = std::sqrt(0.5);
+  int child = b.node({{"mesh", mesh}, {"matrix", {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 5, 0, 1}}}, false);
+  b.node({{"mesh", mesh}, {"translation", {10, 0, 0}}, {"rotation", {0, 0, h, h}}, {"scale", {2, 2, 2}},
+          {"children", {child}}});
+  b.node({{"mesh", mesh}});  // the same mesh a third time, untransformed
+  test::write_file(dir / "h.gltf", b.embedded());
+  Scene s = load_ok(dir / "h.gltf");
+  const Mesh& m = s.meshes[0];
+  ASSERT_EQ(m.indices.size(), 3u);
+  glm::mat4 parent = glm::translate(glm::mat4(1), vec3(10, 0, 0)) *
+                     glm::rotate(glm::mat4(1), glm::radians(90.0f), vec3(0, 0, 1)) *
+                     glm::scale(glm::mat4(1), vec3(2));
+  glm::mat4 child_world = parent * glm::translate(glm::mat4(1), vec3(0, 5, 0));
+  glm::mat4 expected[3] = {parent, child_world, glm::mat4(1)};  // depth first: parent, child, second root
+  for (int t = 0; t < 3; ++t)
+    for (int k = 0; k < 3; ++k) {
+      vec3 want(expected[t] * glm::vec4(kTriangle[size_t(k)], 1));
+      EXPECT_LT(glm::distance(m.positions[m.indices[size_t(t)][k]], want), 1e-5f) << t << " " << k;
+    }
+}
+
+TEST(Gltf, MirroringTransformKeepsTheFrontSide) {
+  TempDir dir;
+  GltfBuilder b;
+  b.node({{"mesh", b.mesh(b.positions(kTriangle))}, {"scale", {-1, 1, 1}}});
+  test::write_file(dir / "m.gltf", b.embedded());
+  Scene s = load_ok(dir / "m.gltf");
+  uvec3 t = s.meshes[0].indices[0];
+  const auto& p = s.meshes[0].positions;
+  EXPECT_GT(glm::cross(p[t.y] - p[t.x], p[t.z] - p[t.x]).z, 0.0f);  // still faces +z, as the unmirrored one
+}
+
+TEST(Gltf, FirstPerspectiveCameraWithItsNodeTransform) {
+  TempDir dir;
+  GltfBuilder b;
+  b.node({{"mesh", b.mesh(b.positions(kTriangle))}});
+  b.j["cameras"] = {{{"type", "orthographic"}, {"orthographic", {{"xmag", 1}, {"ymag", 1}, {"znear", 0.1}, {"zfar", 10}}}},
+                    {{"type", "perspective"}, {"perspective", {{"yfov", 0.5}, {"znear", 0.1}}}},
+                    {{"type", "perspective"}, {"perspective", {{"yfov", 1.0}, {"znear", 0.1}}}}};
+  b.node({{"camera", 0}});
+  double h = std::sqrt(0.5);  // the second camera turned 90 degrees about y: it looks down -x
+  b.node({{"camera", 1}, {"translation", {7, 0, 0}}, {"rotation", {0, h, 0, h}}});
+  b.node({{"camera", 2}, {"translation", {0, 0, 5}}});
+  test::write_file(dir / "c.gltf", b.embedded());
+  Scene s = load_ok(dir / "c.gltf");
+  ASSERT_EQ(s.cameras.size(), 2u);
+  ASSERT_TRUE(s.camera.has_value());
+  EXPECT_NEAR(s.camera->fov_deg, glm::degrees(0.5f), 1e-4f);
+  EXPECT_LT(glm::distance(s.camera->eye, vec3(7, 0, 0)), 1e-5f);
+  vec3 forward = glm::normalize(s.camera->target - s.camera->eye);
+  EXPECT_LT(glm::distance(forward, vec3(-1, 0, 0)), 1e-5f);
+  EXPECT_LT(glm::distance(glm::normalize(s.camera->up), vec3(0, 1, 0)), 1e-5f);
+  EXPECT_LT(glm::distance(s.cameras[1].eye, vec3(0, 0, 5)), 1e-5f);
+  EXPECT_TRUE(has_warning(s, "camera 0 skipped"));
+  ASSERT_TRUE(select_camera(s, 1).empty());
+  EXPECT_EQ(s.camera->eye, s.cameras[1].eye);
+  EXPECT_NE(select_camera(s, 2).find("out of range"), std::string::npos);
+}
+
+TEST(Gltf, MaterialMapping) {
+  TempDir dir;
+  GltfBuilder b;
+  auto pbr = [](std::vector<double> color, double metallic, double roughness) {
+    return json{{"baseColorFactor", color}, {"metallicFactor", metallic}, {"roughnessFactor", roughness}};
+  };
+  std::vector<json> mats = {
+      {{"name", "paint"}, {"pbrMetallicRoughness", pbr({0.5, 0.25, 0.125, 1}, 0, 0.5)}},
+      {{"name", "chrome"}, {"pbrMetallicRoughness", pbr({0.9, 0.8, 0.7, 1}, 1, 0)}},
+      {{"name", "brushed"}, {"pbrMetallicRoughness", pbr({0.9, 0.8, 0.7, 1}, 1, 0.2)}},
+      {{"name", "rough-metal"}, {"pbrMetallicRoughness", pbr({0.9, 0.8, 0.7, 1}, 1, 0.6)}},
+      {{"name", "water"}, {"pbrMetallicRoughness", pbr({1, 1, 1, 1}, 0, 0)},
+       {"extensions", {{"KHR_materials_transmission", {{"transmissionFactor", 1}}}, {"KHR_materials_ior", {{"ior", 1.33}}}}}},
+      {{"name", "glass"}, {"extensions", {{"KHR_materials_transmission", {{"transmissionFactor", 0.9}}}}}},
+      {{"name", "lamp"}, {"emissiveFactor", {1, 0.5, 0.25}}, {"extensions", {{"KHR_materials_emissive_strength", {{"emissiveStrength", 4}}}}}},
+      {{"name", "leaf"}, {"alphaMode", "BLEND"}, {"pbrMetallicRoughness", pbr({0.1, 0.6, 0.1, 0.5}, 0, 1)}},
+  };
+  for (size_t i = 0; i < mats.size(); ++i) {
+    int mat = b.material(mats[i]);
+    b.node({{"mesh", b.mesh(b.positions(kTriangle), -1, mat)}, {"translation", {0, 0, double(i)}}});
+  }
+  test::write_file(dir / "m.gltf", b.embedded());
+  Scene s = load_ok(dir / "m.gltf");
+  auto find = [&](const std::string& name) -> const Material& {
+    for (const Material& m : s.materials)
+      if (m.name == name) return m;
+    ADD_FAILURE() << "no material " << name;
+    return s.materials[0];
+  };
+  EXPECT_EQ(find("paint").type, MaterialType::diffuse);
+  EXPECT_EQ(find("paint").albedo, vec3(0.5f, 0.25f, 0.125f));
+  EXPECT_EQ(find("chrome").type, MaterialType::specular);
+  EXPECT_EQ(find("chrome").albedo, vec3(0.9f, 0.8f, 0.7f));
+  EXPECT_EQ(find("brushed").type, MaterialType::specular);
+  EXPECT_EQ(find("rough-metal").type, MaterialType::diffuse);
+  EXPECT_EQ(find("water").type, MaterialType::glass);
+  EXPECT_FLOAT_EQ(find("water").ior, 1.33f);
+  EXPECT_EQ(find("glass").type, MaterialType::glass);
+  EXPECT_FLOAT_EQ(find("glass").ior, 1.5f);
+  EXPECT_EQ(find("lamp").emission, vec3(4.0f, 2.0f, 1.0f));
+  EXPECT_TRUE(s.has_emitter());
+  EXPECT_EQ(find("leaf").type, MaterialType::diffuse);
+  // One warning per approximated material, naming it; none for the exact ones.
+  EXPECT_TRUE(has_warning(s, "material 2 'brushed' approximated: roughness"));
+  EXPECT_TRUE(has_warning(s, "material 3 'rough-metal' approximated: metal with roughness 0.6 as diffuse"));
+  EXPECT_TRUE(has_warning(s, "material 5 'glass' approximated: transmission"));
+  EXPECT_TRUE(has_warning(s, "material 7 'leaf' approximated: alphaMode BLEND ignored"));
+  EXPECT_TRUE(has_warning(s, "material 2 'brushed' approximated: roughness 0.2 as a mirror"));
+  EXPECT_FALSE(has_warning(s, "'paint'"));
+  EXPECT_FALSE(has_warning(s, "'chrome'"));
+  EXPECT_FALSE(has_warning(s, "'water'"));
+  EXPECT_FALSE(has_warning(s, "'lamp'")) << testing::PrintToString(s.warnings);
+}
+
+TEST(Gltf, GlbRoundTripEqualsGltf) {
+  TempDir dir;
+  GltfBuilder b;
+  std::vector<vec3> p = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 1}};
+  std::vector<uint16_t> idx = {0, 1, 2, 2, 1, 3};
+  int mat = b.material({{"name", "red"}, {"pbrMetallicRoughness", {{"baseColorFactor", {0.8, 0.1, 0.1, 1}}}}});
+  b.node({{"mesh", b.mesh(b.positions(p), b.indices(idx), mat)}, {"translation", {1, 2, 3}}});
+  test::write_file(dir / "a.gltf", b.embedded());
+  test::write_file(dir / "a.glb", b.glb());
+  b.save_with_bin(dir / "c.gltf", dir.path.string(), "c.bin");
+  Scene a = load_ok(dir / "a.gltf"), g = load_ok(dir / "a.glb"), c = load_ok(dir / "c.gltf");
+  for (const Scene* s : {&g, &c}) {
+    ASSERT_EQ(s->meshes.size(), 1u);
+    EXPECT_EQ(s->meshes[0].positions, a.meshes[0].positions);
+    EXPECT_EQ(s->meshes[0].indices, a.meshes[0].indices);
+    EXPECT_EQ(s->materials[s->meshes[0].materials[0]].albedo, vec3(0.8f, 0.1f, 0.1f));
+  }
+  EXPECT_EQ(a.meshes[0].indices.size(), 2u);
+}
+
+TEST(Gltf, SceneJsonMeshShapeTransformsOverridesAndPicksCamera) {
+  TempDir dir;
+  GltfBuilder b;
+  int mat = b.material({{"name", "red"}, {"pbrMetallicRoughness", {{"baseColorFactor", {0.8, 0.1, 0.1, 1}}}}});
+  b.node({{"mesh", b.mesh(b.positions(kTriangle), -1, mat)}});
+  b.j["cameras"] = {{{"type", "perspective"}, {"perspective", {{"yfov", 0.7}, {"znear", 0.1}}}}};
+  b.node({{"camera", 0}, {"translation", {0, 0, 5}}});
+  test::write_file(dir / "t.glb", b.glb());
+  test::write_file(dir / "s.json", R"({"materials": {"blue": {"albedo": [0, 0, 1]}}, "shapes": [
+    {"type": "mesh", "file": "t.glb", "transform": {"translate": [0, 0, -10]}, "camera": 0},
+    {"type": "mesh", "file": "t.glb", "material": "blue", "transform": {"scale": 2}}]})");
+  Scene s = load_ok(dir / "s.json");
+  ASSERT_EQ(s.meshes.size(), 2u);
+  EXPECT_EQ(s.meshes[0].positions[s.meshes[0].indices[0].x], vec3(0, 0, -10));
+  EXPECT_EQ(s.materials[s.meshes[0].materials[0]].name, "red");
+  EXPECT_EQ(s.materials[s.meshes[1].materials[0]].name, "blue");
+  EXPECT_EQ(mesh_bounds(s).hi, vec3(2, 2, 0));
+  ASSERT_EQ(s.cameras.size(), 2u);
+  EXPECT_LT(glm::distance(s.camera->eye, vec3(0, 0, -5)), 1e-5f);
+  EXPECT_NEAR(s.camera->fov_deg, glm::degrees(0.7f), 1e-4f);
+
+  test::write_file(dir / "bad.json", R"({"shapes": [{"type": "mesh", "file": "t.glb", "camera": 3}]})");
+  EXPECT_NE(load_error(dir / "bad.json").find("camera 3 out of range"), std::string::npos);
+}
+
+// --- bad input ---------------------------------------------------------------------------------------------------
+
+GltfBuilder triangle_file() {
+  GltfBuilder b;
+  b.node({{"mesh", b.mesh(b.positions(kTriangle))}});
+  return b;
+}
+
+TEST(GltfBad, TruncatedGlbAndWrongMagic) {
+  TempDir dir;
+  std::string glb = triangle_file().glb();
+  test::write_file(dir / "short.glb", glb.substr(0, 8));
+  EXPECT_NE(load_error(dir / "short.glb").find("truncated .glb"), std::string::npos);
+  test::write_file(dir / "cut.glb", glb.substr(0, glb.size() - 10));
+  EXPECT_NE(load_error(dir / "cut.glb").find("truncated .glb"), std::string::npos);
+  std::string magic = glb;
+  magic[0] = 'x';
+  test::write_file(dir / "magic.glb", magic);
+  EXPECT_NE(load_error(dir / "magic.glb").find("wrong magic"), std::string::npos);
+}
+
+TEST(GltfBad, MissingBinAndBadDataUri) {
+  TempDir dir;
+  GltfBuilder b = triangle_file();
+  test::write_file(dir / "nobin.gltf", b.with_buffer("missing.bin").dump());
+  EXPECT_NE(load_error(dir / "nobin.gltf").find("missing.bin"), std::string::npos);
+  test::write_file(dir / "uri.gltf", b.with_buffer("data:application/octet-stream;base64,@@@@").dump());
+  std::string e = load_error(dir / "uri.gltf");
+  EXPECT_NE(e.find("uri"), std::string::npos) << e;
+}
+
+TEST(GltfBad, RangesAndIndices) {
+  TempDir dir;
+  struct Case {
+    const char* name;
+    std::function<void(GltfBuilder&)> edit;
+    const char* reason;
+  };
+  std::vector<Case> cases = {
+      {"acc_range", [](GltfBuilder& b) { b.j["meshes"][0]["primitives"][0]["attributes"]["POSITION"] = 7; },
+       "POSITION accessor 7 out of range"},
+      {"view_range", [](GltfBuilder& b) { b.j["accessors"][0]["bufferView"] = 5; }, "bufferView 5 out of range"},
+      {"acc_overlap", [](GltfBuilder& b) { b.j["accessors"][0]["byteOffset"] = 4; }, "overlap the end of bufferView 0"},
+      {"view_overlap", [](GltfBuilder& b) { b.j["bufferViews"][0]["byteOffset"] = 4; }, "overlap the end of buffer 0"},
+      {"index", [](GltfBuilder& b) {
+         std::vector<uint16_t> idx = {0, 1, 3};
+         b.j["meshes"][0]["primitives"][0]["indices"] = b.indices(idx);
+       }, "index 3 past the vertex count 3"},
+      {"cycle", [](GltfBuilder& b) {
+         b.j["nodes"].push_back({{"children", {2}}});
+         b.j["nodes"].push_back({{"children", {1}}});
+         b.j["scenes"][0]["nodes"].push_back(1);
+       }, "cyclic node graph"},
+      {"two_parents", [](GltfBuilder& b) { b.node({{"children", {0}}}); }, "more than one parent"},
+      {"required", [](GltfBuilder& b) { b.j["extensionsRequired"] = {"KHR_draco_mesh_compression"}; },
+       "unsupported required extension 'KHR_draco_mesh_compression'"},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.name);
+    GltfBuilder b = triangle_file();
+    c.edit(b);
+    std::string path = dir / (std::string(c.name) + ".gltf");
+    test::write_file(path, b.embedded());
+    std::string e = load_error(path);
+    EXPECT_NE(e.find(c.reason), std::string::npos) << e;
+  }
+}
+
+TEST(GltfBad, NonFinitePositionAndMatrix) {
+  TempDir dir;
+  std::vector<vec3> p = kTriangle;
+  p[1].x = std::numeric_limits<float>::infinity();
+  GltfBuilder b;
+  b.node({{"mesh", b.mesh(b.positions(p))}});
+  test::write_file(dir / "p.gltf", b.embedded());
+  EXPECT_NE(load_error(dir / "p.gltf").find("non-finite vertex position"), std::string::npos);
+  // A finite matrix whose product overflows a float.
+  GltfBuilder m = triangle_file();
+  m.j["nodes"][0]["scale"] = {1e38, 1e38, 1e38};
+  m.j["nodes"][0]["translation"] = {3e38, 0, 0};
+  test::write_file(dir / "m.gltf", m.embedded());
+  EXPECT_NE(load_error(dir / "m.gltf").find("non-finite"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace pt
