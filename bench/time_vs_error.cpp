@@ -11,6 +11,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -18,6 +19,8 @@
 #include "app/app.h"
 #include "render/camera.h"
 #include "render/analytic.h"
+#include "render/adaptive.h"
+#include "render/convergence.h"
 #include "render/renderer.h"
 #include "scene/load.h"
 
@@ -138,6 +141,130 @@ Image render(const RenderScene& rs, RenderParams p, int spp, Renderer& renderer)
   return film.resolve();
 }
 
+
+// ---- Convergence (issue 12): the error estimator against the true error, and adaptive against uniform sampling.
+
+/// A reference for a scene that has no closed form: an MIS render at `spp`, cached in `cache`.
+Image cached_reference(const std::string& cache, const std::string& name, const RenderScene& rs, int size, int spp,
+                       Renderer& renderer) {
+  std::string path = cache + "/ref-" + name + "-" + std::to_string(size) + "-" + std::to_string(spp) + ".pfm";
+  if (Result<Image> cached = load_image(path)) return std::move(*cached);
+  RenderParams p;
+  p.width = p.height = size;
+  p.seed = 987654321;
+  auto t0 = std::chrono::steady_clock::now();
+  Image ref = render(rs, p, spp, renderer);
+  double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  std::printf("# reference %s: %d spp in %.1f s -> %s\n", name.c_str(), spp, s, path.c_str());
+  if (auto err = save_image(path, ref)) std::fprintf(stderr, "%s\n", err->message.c_str());
+  return ref;
+}
+
+/// est_rel_mse against the true rel_mse at 16, 64 and 256 spp, per scene and sampler, two seeds each. `pair` is a
+/// reference-free check: half the mean squared difference of two independent renders, normalised like rel_mse.
+void validate_estimator(const std::vector<std::pair<std::string, Image>>& refs,
+                        const std::vector<std::pair<std::string, const RenderScene*>>& scenes, int size,
+                        int ref_spp, Renderer& renderer, const std::string& csv_path) {
+  std::ofstream csv(csv_path);
+  csv << "scene,sampler,spp,ref_spp,rel_mse,est_rel_mse,pair_rel_mse,ratio\n";
+  std::printf("\n# estimator validation: est_rel_mse / rel_mse (mean of 2 seeds; target within [1/1.5, 1.5])\n");
+  std::printf("%-22s %-12s %5s %11s %11s %11s %7s\n", "scene", "sampler", "spp", "rel_mse", "est_rel_mse", "pair",
+              "ratio");
+  for (size_t i = 0; i < scenes.size(); ++i) {
+    const Image& ref = refs[i].second;
+    for (auto [sampler_name, sampler] : kSamplers)
+      for (int spp : {16, 64, 256}) {
+        double rel = 0, est = 0;
+        Image img[2];
+        for (int seed = 0; seed < 2; ++seed) {
+          RenderParams p;
+          p.width = p.height = size;
+          p.sampler = sampler;
+          p.seed = uint64_t(seed) * 7919 + 11;
+          p.spp_per_frame = spp;
+          Film film(size, size);
+          RenderCounters c;
+          renderer.render_frame(*scenes[i].second, p, film, 0, c);
+          img[seed] = film.resolve();
+          rel += compare_images(img[seed], ref).rel_mse / 2;
+          est += est_rel_mse(film) / 2;
+        }
+        double pair = 0;
+        for (size_t k = 0; k < ref.rgb.size(); ++k) {
+          double d = double(img[0].rgb[k]) - img[1].rgb[k], r = ref.rgb[k];
+          pair += d * d / (r * r + 0.01);
+        }
+        pair /= 2.0 * double(ref.rgb.size());
+        csv << scenes[i].first << "," << sampler_name << "," << spp << "," << ref_spp << "," << rel << "," << est
+            << "," << pair << "," << est / rel << "\n";
+        std::printf("%-22s %-12s %5d %11.4g %11.4g %11.4g %7.3f\n", scenes[i].first.c_str(), sampler_name, spp, rel,
+                    est, pair, est / rel);
+      }
+  }
+}
+
+/// Adaptive (--noise-threshold T) against uniform sampling on one scene: the adaptive run goes until every pixel
+/// converged (or max_spp), then a uniform run gets the same render time. Efficiency = 1 / (rel_mse x seconds);
+/// also at equal sample count (cost without timing noise).
+void compare_adaptive(const std::string& name, const RenderScene& rs, const Image& ref, int size, int max_spp,
+                      Renderer& renderer, const std::string& csv_path) {
+  std::ofstream csv(csv_path);
+  csv << "scene,mode,threshold,spp_mean,spp_max,seconds,rel_mse,est_rel_mse,converged_fraction\n";
+  std::printf("\n# adaptive against uniform sampling at equal time, %s %dx%d (mis, sobol)\n", name.c_str(), size,
+              size);
+  std::printf("%-9s %9s %9s %7s %9s %11s %11s %9s %8s %8s\n", "mode", "threshold", "spp_mean", "spp_max", "seconds",
+              "rel_mse", "est_rel_mse", "converged", "eff_t", "eff_spp");
+  RenderParams p;
+  p.width = p.height = size;
+  p.spp_per_frame = 4;
+  using Clock = std::chrono::steady_clock;
+  auto row = [&](const char* mode, double t, const ProgressiveFilm& f, double secs, double eff_t, double eff_s) {
+    SppSummary s = spp_summary(f.film());
+    double rel = compare_images(f.film().resolve(), ref).rel_mse, est = est_rel_mse(f.film());
+    csv << name << "," << mode << "," << t << "," << s.mean << "," << s.max << "," << secs << "," << rel << ","
+        << est << "," << f.converged_fraction() << "\n";
+    std::printf("%-9s %9.3g %9.1f %7u %9.2f %11.4g %11.4g %9.3f %8.2f %8.2f\n", mode, t, s.mean, s.max, secs, rel, est,
+                f.converged_fraction(), eff_t, eff_s);
+  };
+  for (double t : {0.1, 0.05, 0.03}) {
+    ProgressiveFilm a;
+    a.reset(size, size);
+    a.set_adaptive({t, 0});
+    RenderCounters c;
+    double ta = 0;
+    while (!a.converged() && a.spp() < max_spp) {
+      auto t0 = Clock::now();
+      a.render_frame(renderer, rs, p, c);
+      ta += std::chrono::duration<double>(Clock::now() - t0).count();
+    }
+    double rel_a = compare_images(a.film().resolve(), ref).rel_mse;
+    // Uniform at equal time.
+    ProgressiveFilm u;
+    u.reset(size, size);
+    double tu = 0;
+    while (tu < ta) {
+      auto t0 = Clock::now();
+      u.render_frame(renderer, rs, p, c);
+      tu += std::chrono::duration<double>(Clock::now() - t0).count();
+    }
+    double rel_u = compare_images(u.film().resolve(), ref).rel_mse;
+    // Uniform at equal samples: the adaptive run's mean spp (rounded up to a multiple of 4).
+    ProgressiveFilm e;
+    e.reset(size, size);
+    double mean_a = spp_summary(a.film()).mean, te = 0;
+    while (e.spp() < mean_a) {
+      auto t0 = Clock::now();
+      e.render_frame(renderer, rs, p, c);
+      te += std::chrono::duration<double>(Clock::now() - t0).count();
+    }
+    double rel_e = compare_images(e.film().resolve(), ref).rel_mse;
+    double eff_t = (rel_u * tu) / (rel_a * ta), eff_s = (rel_e * spp_summary(e.film()).mean) / (rel_a * mean_a);
+    row("adaptive", t, a, ta, eff_t, eff_s);
+    row("uniform", 0, u, tu, 1, 1);
+    row("uni-spp", 0, e, te, 1, 1);
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -145,6 +272,9 @@ int main(int argc, char** argv) {
   std::string cache = std::string(std::getenv("HOME") ? std::getenv("HOME") : "/tmp") + "/.cache/ptview";
   std::string csv_path = "time_vs_error.csv";
   std::string only;
+  // Convergence sections: "estimator", "adaptive", "both", "only" (both, skipping the strategy curves) or "none".
+  std::string convergence = "both";
+  int conv_size = 64, conv_ref_spp = 8192;
   for (int i = 1; i + 1 < argc; i += 2) {
     if (!std::strcmp(argv[i], "--size")) size = std::atoi(argv[i + 1]);
     else if (!std::strcmp(argv[i], "--max-spp")) max_spp = std::atoi(argv[i + 1]);
@@ -152,6 +282,9 @@ int main(int argc, char** argv) {
     else if (!std::strcmp(argv[i], "--cache")) cache = argv[i + 1];
     else if (!std::strcmp(argv[i], "--csv")) csv_path = argv[i + 1];
     else if (!std::strcmp(argv[i], "--scenes")) only = "," + std::string(argv[i + 1]) + ",";
+    else if (!std::strcmp(argv[i], "--convergence")) convergence = argv[i + 1];
+    else if (!std::strcmp(argv[i], "--conv-size")) conv_size = std::atoi(argv[i + 1]);
+    else if (!std::strcmp(argv[i], "--conv-ref-spp")) conv_ref_spp = std::atoi(argv[i + 1]);
   }
   std::vector<std::pair<std::string, Scene>> scenes;
   for (const char* name : {"cornell", "cornell-glass", "cornell-mirror", "cornell-large-mesh"}) {
@@ -169,6 +302,7 @@ int main(int argc, char** argv) {
   std::printf("%-20s %-22s %-12s %6s %9s %11s %11s\n", "scene", "strategy", "sampler", "spp", "seconds", "rmse",
               "rel_mse");
   for (auto& [name, scene] : scenes) {
+    if (convergence == "only") break;
     if (!only.empty() && only.find("," + name + ",") == std::string::npos) continue;
     RenderScene rs = make_render_scene(scene);
     RenderParams base;
@@ -221,4 +355,26 @@ int main(int argc, char** argv) {
       }
   }
   std::printf("wrote %s\n", csv_path.c_str());
+  if (convergence == "none") return 0;
+  const std::string stem = csv_path.substr(0, csv_path.rfind('.'));
+  std::vector<std::pair<std::string, Image>> refs;
+  std::vector<std::unique_ptr<RenderScene>> owned;
+  std::vector<std::pair<std::string, const RenderScene*>> conv_scenes;
+  for (auto& [name, scene] : scenes) {
+    if (name != "rect-light-over-plane" && name.rfind("cornell", 0) != 0) continue;
+    if (name == "cornell-large-mesh") continue;  // same light transport as cornell, much slower references
+    owned.push_back(std::make_unique<RenderScene>(make_render_scene(scene)));
+    conv_scenes.emplace_back(name, owned.back().get());
+    refs.emplace_back(name, name == "rect-light-over-plane"
+                                ? exact_plane_image(plane, conv_size)
+                                : cached_reference(cache, name, *owned.back(), conv_size, conv_ref_spp, renderer));
+  }
+  if (convergence != "adaptive")
+    validate_estimator(refs, conv_scenes, conv_size, conv_ref_spp, renderer, stem + "-estimator.csv");
+  if (convergence != "estimator")
+    for (size_t i = 0; i < conv_scenes.size(); ++i)
+      if (conv_scenes[i].first == "cornell-glass")
+        compare_adaptive("cornell-glass", *conv_scenes[i].second, refs[i].second, conv_size, 2048, renderer,
+                         stem + "-adaptive.csv");
+  return 0;
 }

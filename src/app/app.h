@@ -1,6 +1,9 @@
 #pragma once
 /// Entry points of the program: parse, load, then run headless or open the viewer.
+#include <nlohmann/json_fwd.hpp>
+
 #include "app/options.h"
+#include "render/convergence.h"
 #include "render/render_scene.h"
 #include "render/stats.h"
 
@@ -12,6 +15,19 @@ int run_app(int argc, const char* const* argv);
 /// Renders options.frames frames (or until the time limit) without a window, writes outputs; returns exit code.
 int run_headless(const AppOptions& options, const Scene& scene);
 
+/// How converged a film is (render/convergence.h, render/adaptive.h), for the stats JSON.
+struct ConvergenceSummary {
+  double est_rel_mse = 0.0;         ///< NaN when unknown (written as null)
+  double converged_fraction = 0.0;
+  SppSummary spp;
+  double noise_threshold = 0.0;     ///< 0: adaptive sampling off
+  int min_spp = 0;
+};
+ConvergenceSummary summarize_convergence(const ProgressiveFilm& film);
+/// Adds est_rel_mse, converged_fraction, spp_min, spp_max, spp_mean and, with adaptive sampling, noise_threshold
+/// and min_spp to a stats object (shared by the headless and the viewer stats).
+void add_convergence_stats(nlohmann::json& j, const ConvergenceSummary& c);
+
 /// Summary of a finished run, for --stats-json.
 struct RunSummary {
   int frames = 0;
@@ -20,6 +36,7 @@ struct RunSummary {
   double load_ms = 0.0;
   RenderCounters counters;
   int threads = 1;
+  ConvergenceSummary convergence;
 };
 
 /// The stats JSON object (see README): spp, seconds, rays, mrays_per_s, nonfinite_samples, bvh, skipped, ...

@@ -65,7 +65,15 @@ ParseOutcome parse_command_line(int argc, const char* const* argv) {
   app.add_option("--sampler", sampler, "sobol (default: Owen-scrambled Sobol) or independent");
   app.add_option("--stats-json", o.stats_json, "Write run statistics as JSON");
   app.add_option("--reference", o.reference, "Reference image (.pfm/.exr) for --error-csv");
-  app.add_option("--error-csv", o.error_csv, "After every frame append frame,spp,seconds,rmse,rel_mse");
+  app.add_option("--error-csv", o.error_csv, "After every frame append frame,spp,seconds,rmse,rel_mse,est_rel_mse");
+  app.add_option("--error-map", o.error_map, "Headless: write the per-pixel relative standard error (.pfm/.exr)");
+  app.add_option("--spp-map", o.spp_map, "Headless: write the samples each pixel received (.pfm/.exr)");
+  auto* threshold_opt = app.add_option("--noise-threshold", o.adaptive.noise_threshold,
+                                       "Adaptive sampling: pixels whose relative standard error is below T stop");
+  auto* min_spp_opt = app.add_option("--min-spp", o.adaptive.min_spp,
+                                     "Adaptive sampling: samples before the first check (default ceil(16/T^0.3))");
+  int max_spp = 0;
+  auto* max_spp_opt = app.add_option("--max-spp", max_spp, "Headless: stop at N samples per pixel");
   auto* time_opt = app.add_option("--time-limit", time_limit, "Headless: stop after S seconds");
   app.add_option("--exposure", o.display.exposure, "Display exposure in stops (PNG output and viewer)");
   std::string tonemap = "clamp";
@@ -133,6 +141,26 @@ ParseOutcome parse_command_line(int argc, const char* const* argv) {
     if (!(time_limit > 0) || !std::isfinite(time_limit)) return fail("--time-limit: must be a positive number of seconds");
     o.time_limit = time_limit;
   }
+  if (threshold_opt->count()) {
+    const double t = o.adaptive.noise_threshold;
+    if (!std::isfinite(t) || !(t > 0.0) || t > 1.0)
+      return fail("--noise-threshold: must be a relative error greater than 0 and at most 1");
+  }
+  if (min_spp_opt->count()) {
+    if (!threshold_opt->count()) return fail("--min-spp: needs --noise-threshold");
+    if (o.adaptive.min_spp < 1 || o.adaptive.min_spp > (1 << 24)) return fail("--min-spp: must be from 1 to 16777216");
+  }
+  if (max_spp_opt->count()) {
+    if (max_spp < 1 || max_spp > (1 << 30)) return fail("--max-spp: must be from 1 to 1073741824");
+    o.max_spp = max_spp;
+  }
+  for (auto [name, path] : {std::pair{"--error-map", &o.error_map}, std::pair{"--spp-map", &o.spp_map}}) {
+    if (path->empty()) continue;
+    if (!o.headless()) return fail(std::string(name) + ": headless only (with --frames, --time-limit or --max-spp)");
+    std::string ext = lower_extension(*path);
+    if (ext != ".pfm" && ext != ".exr") return fail(std::string(name) + ": must be a .pfm or .exr file: " + *path);
+    if (std::string err = check_output_dir(name, *path); !err.empty()) return fail(err);
+  }
   if (quit_opt->count()) {
     if (quit_after < 1) return fail("--quit-after-frames: must be at least 1");
     o.viewer.quit_after_frames = quit_after;
@@ -150,7 +178,6 @@ ParseOutcome parse_command_line(int argc, const char* const* argv) {
   if (!o.stats_json.empty())
     if (std::string err = check_output_dir("--stats-json", o.stats_json); !err.empty()) return fail(err);
   if (!o.error_csv.empty()) {
-    if (o.reference.empty()) return fail("--error-csv: needs --reference");
     if (std::string err = check_output_dir("--error-csv", o.error_csv); !err.empty()) return fail(err);
   }
   if (!o.reference.empty()) {

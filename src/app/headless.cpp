@@ -1,12 +1,16 @@
 /// The headless path: render frames, report progress on a terminal, write the image, stats and error curve.
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <sstream>
 
 #include "app/app.h"
 #include "core/atomic_file.h"
+#include "render/adaptive.h"
+#include "render/convergence.h"
 #include "render/renderer.h"
 
 namespace pt {
@@ -30,6 +34,23 @@ void print_progress(int frame, int frames_total, int spp, double seconds, uint64
   std::fflush(stderr);
 }
 
+/// One --error-csv row: frame,spp,seconds,rmse,rel_mse,est_rel_mse; rmse and rel_mse empty without a reference,
+/// est_rel_mse empty while unknown.
+void append_error_row(std::ostringstream& csv, const RunSummary& run, double seconds, const Film& film,
+                      const std::optional<Image>& reference) {
+  char row[200];
+  int n = std::snprintf(row, sizeof row, "%d,%d,%.6f,", run.frames, run.spp, seconds);
+  if (reference) {
+    ImageError e = compare_images(film.resolve(), *reference);
+    n += std::snprintf(row + n, sizeof row - n, "%.9g,%.9g,", e.rmse, e.rel_mse);
+  } else {
+    n += std::snprintf(row + n, sizeof row - n, ",,");
+  }
+  double est = est_rel_mse(film);
+  if (std::isfinite(est)) std::snprintf(row + n, sizeof row - n, "%.9g", est);
+  csv << row << "\n";
+}
+
 }  // namespace
 
 int run_headless(const AppOptions& options, const Scene& scene) {
@@ -39,7 +60,6 @@ int run_headless(const AppOptions& options, const Scene& scene) {
     std::fprintf(stderr, "ptview: warning: %s\n", Error::one_line(w).c_str());
 
   std::optional<Image> reference;
-  std::ostringstream error_csv;
   if (!options.reference.empty()) {
     Result<Image> ref = load_image(options.reference);
     if (!ref) {
@@ -52,41 +72,51 @@ int run_headless(const AppOptions& options, const Scene& scene) {
       return 2;
     }
     reference = std::move(*ref);
-    error_csv << "frame,spp,seconds,rmse,rel_mse\n";
   }
+  std::ostringstream error_csv;
+  error_csv << "frame,spp,seconds,rmse,rel_mse,est_rel_mse\n";
 
   Renderer renderer(params.threads);
-  Film film(params.width, params.height);
+  ProgressiveFilm film;
+  film.reset(params.width, params.height);
+  film.set_adaptive(options.adaptive);
   RunSummary run;
   run.threads = renderer.thread_count();
   const bool progress = ::isatty(STDERR_FILENO);
-  const int frames_total = options.frames.value_or(0);  // 0: until the time limit
+  const int frames_total = options.frames.value_or(0);  // 0: until another limit
   const Clock::time_point start = Clock::now();
   double render_seconds = 0.0;
-  for (int frame = 0; frames_total == 0 || frame < frames_total; ++frame) {
+  // Ends at --frames, --max-spp, --time-limit, or when adaptive sampling has stopped every pixel.
+  while ((frames_total == 0 || film.frames() < frames_total) && !(options.max_spp && film.spp() >= *options.max_spp) &&
+         !film.converged()) {
+    RenderParams p = params;
+    if (options.max_spp) p.spp_per_frame = std::min(p.spp_per_frame, *options.max_spp - film.spp());
     Clock::time_point t0 = Clock::now();
-    renderer.render_frame(rs, params, film, uint32_t(frame), run.counters);
+    film.render_frame(renderer, rs, p, run.counters);
     render_seconds += seconds_since(t0);
-    run.frames = frame + 1;
-    run.spp = run.frames * params.spp_per_frame;
-    if (reference) {
-      ImageError e = compare_images(film.resolve(), *reference);
-      char row[160];
-      std::snprintf(row, sizeof row, "%d,%d,%.6f,%.9g,%.9g\n", run.frames, run.spp, render_seconds, e.rmse, e.rel_mse);
-      error_csv << row;
-    }
+    run.frames = film.frames();
+    run.spp = film.spp();
+    if (!options.error_csv.empty()) append_error_row(error_csv, run, render_seconds, film.film(), reference);
     if (progress) print_progress(run.frames, frames_total, run.spp, render_seconds, run.counters.rays(), false);
     if (options.time_limit && seconds_since(start) >= *options.time_limit) break;
   }
   run.seconds = render_seconds;
+  run.convergence = summarize_convergence(film);
   if (progress) print_progress(run.frames, frames_total, run.spp, render_seconds, run.counters.rays(), true);
 
   int code = 0;
-  if (auto err = save_image(options.out, film.resolve(), options.display)) {
+  if (auto err = save_image(options.out, film.film().resolve(), options.display)) {
     std::fprintf(stderr, "ptview: error: %s\n", err->message.c_str());
     code = 2;
   } else if (!options.out_given) {
     std::printf("ptview: wrote %s (%d spp, %.2f s)\n", options.out.c_str(), run.spp, run.seconds);
+  }
+  for (auto [path, map] : {std::pair{&options.error_map, &rel_error_image}, std::pair{&options.spp_map, &spp_image}}) {
+    if (path->empty()) continue;
+    if (auto err = save_image(*path, map(film.film()))) {
+      std::fprintf(stderr, "ptview: error: %s\n", err->message.c_str());
+      code = 2;
+    }
   }
   if (!options.error_csv.empty()) {
     if (auto err = write_file_atomic(options.error_csv, error_csv.str())) {

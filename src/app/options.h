@@ -5,6 +5,7 @@
 #include <variant>
 
 #include "core/result.h"
+#include "render/adaptive.h"
 #include "render/image.h"
 #include "render/integrator.h"
 #include "view/viewer_hooks.h"
@@ -23,9 +24,13 @@ struct AppOptions {
   std::string error_csv;
   std::optional<double> time_limit;  ///< seconds
   std::optional<int> camera;         ///< --camera N: the scene file's camera N (glTF cameras, in node order)
+  std::optional<int> max_spp;        ///< headless: stop when the most-sampled pixel has this many samples
+  AdaptiveParams adaptive;           ///< --noise-threshold, --min-spp
+  std::string error_map;             ///< per-pixel relative standard error (.pfm/.exr)
+  std::string spp_map;               ///< samples per pixel (.pfm/.exr)
   ViewerHooks viewer;                ///< windowed mode only
 
-  bool headless() const { return frames.has_value() || time_limit.has_value(); }
+  bool headless() const { return frames.has_value() || time_limit.has_value() || max_spp.has_value(); }
 };
 
 /// What parsing the command line decided: run with options, or exit now with a code after printing `message`

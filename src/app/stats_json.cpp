@@ -51,7 +51,32 @@ std::string make_stats_json(const AppOptions& options, const Scene& scene, const
                    {"specular", rs.features.has_specular},
                    {"background", rs.features.has_background}};
   j["warnings"] = scene.warnings;
+  add_convergence_stats(j, run.convergence);
   return j.dump(2) + "\n";
+}
+
+ConvergenceSummary summarize_convergence(const ProgressiveFilm& film) {
+  ConvergenceSummary c;
+  c.est_rel_mse = est_rel_mse(film.film());
+  c.converged_fraction = film.converged_fraction();
+  c.spp = spp_summary(film.film());
+  if (film.adaptive().enabled()) {
+    c.noise_threshold = film.adaptive().noise_threshold;
+    c.min_spp = effective_min_spp(film.adaptive());
+  }
+  return c;
+}
+
+void add_convergence_stats(nlohmann::json& j, const ConvergenceSummary& c) {
+  j["est_rel_mse"] = std::isfinite(c.est_rel_mse) ? nlohmann::json(c.est_rel_mse) : nlohmann::json(nullptr);
+  j["converged_fraction"] = c.converged_fraction;
+  j["spp_min"] = c.spp.min;
+  j["spp_max"] = c.spp.max;
+  j["spp_mean"] = c.spp.mean;
+  if (c.noise_threshold > 0.0) {
+    j["noise_threshold"] = c.noise_threshold;
+    j["min_spp"] = c.min_spp;
+  }
 }
 
 ImageError compare_images(const Image& image, const Image& reference) {

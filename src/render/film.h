@@ -1,34 +1,71 @@
 #pragma once
 /// The accumulation buffer: per-pixel sums of samples and their counts, divided only when an image is read.
 /// Sums are double so that millions of samples add without losing the small ones.
+///
+/// Next to the sum the film keeps a second accumulator over one half of the samples (the "A" half, chosen by
+/// sample index, see sample_in_half_a). The difference of the two half means estimates the variance of the pixel
+/// mean (render/convergence.h), which drives the error estimate and adaptive sampling.
+///
+/// Every accumulation buffer is a plain vector that adds element-wise: for_each_buffer lists them all, so a
+/// reducer (MPI, tests) can sum two films without knowing the buffers' names.
+#include <bit>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "render/image.h"
 
 namespace pt {
 
+/// Whether sample `index` of a pixel goes to the A half. Christensen, Kensler and Kilpatrick 2018 ("Progressive
+/// Multi-Jittered Sample Sequences", section 10.2.1) split a (0,2)-sequence into two classes by the parity of the
+/// index bits at odd positions; Cycles uses the same split for its Owen-scrambled, shuffled Sobol-Burley sampler.
+/// Why it is unbiased for both samplers: the split depends on the sample index alone, never on the sample values,
+/// and every sample of either sampler is uniformly distributed on its own (independent: trivially; Owen-scrambled
+/// Sobol: the output scramble makes every single point uniform), so each half's mean is an unbiased estimate of
+/// the pixel. Why this split rather than even/odd: every group of four consecutive indices puts two samples in
+/// each half, and unlike splitting on the lowest index bit it does not give one half a fixed half of the first
+/// (camera) dimension's stratification pairs, so the two halves are closer to independent and (A-B)^2/4 is a
+/// closer estimate of Var(mean) (measured in bench-error, "estimator validation").
+inline bool sample_in_half_a(uint64_t index) { return (std::popcount(uint32_t(index) & 0xaaaaaaaau) & 1) == 0; }
+
 struct Film {
   int width = 0;
   int height = 0;
-  std::vector<double> sum;        ///< 3 per pixel
-  std::vector<uint32_t> count;    ///< finite samples per pixel
+  std::vector<double> sum;          ///< 3 per pixel
+  std::vector<uint32_t> count;      ///< finite samples per pixel
+  std::vector<double> half_sum;     ///< 3 per pixel: the finite samples of the A half
+  std::vector<uint32_t> half_count; ///< finite samples of the A half per pixel
+  std::vector<uint32_t> taken;      ///< samples drawn per pixel, finite or not: the next sample index (adaptive)
 
   Film() = default;
   Film(int w, int h) { reset(w, h); }
+  size_t pixel_count() const { return size_t(width) * size_t(height); }
   void reset(int w, int h) {
     width = w;
     height = h;
-    sum.assign(size_t(w) * size_t(h) * 3, 0.0);
-    count.assign(size_t(w) * size_t(h), 0);
+    const size_t n = size_t(w) * size_t(h);
+    sum.assign(n * 3, 0.0);
+    count.assign(n, 0);
+    half_sum.assign(n * 3, 0.0);
+    half_count.assign(n, 0);
+    taken.assign(n, 0);
   }
   void clear() { reset(width, height); }
-  void add(size_t pixel, vec3 c) {
+  /// A finite sample with index `sample_index` of `pixel`. (Non-finite ones only call note_taken.)
+  void add(size_t pixel, vec3 c, uint64_t sample_index = 0) {
     sum[3 * pixel] += c.x;
     sum[3 * pixel + 1] += c.y;
     sum[3 * pixel + 2] += c.z;
     ++count[pixel];
+    if (sample_in_half_a(sample_index)) {
+      half_sum[3 * pixel] += c.x;
+      half_sum[3 * pixel + 1] += c.y;
+      half_sum[3 * pixel + 2] += c.z;
+      ++half_count[pixel];
+    }
   }
+  void note_taken(size_t pixel) { ++taken[pixel]; }
   vec3 mean(size_t pixel) const {
     if (count[pixel] == 0) return vec3(0.0f);
     double inv = 1.0 / count[pixel];
@@ -37,13 +74,31 @@ struct Film {
   /// The mean of the samples so far, the image every output writes.
   Image resolve() const {
     Image img(width, height);
-    for (size_t p = 0; p < size_t(width) * size_t(height); ++p) {
+    for (size_t p = 0; p < pixel_count(); ++p) {
       vec3 m = mean(p);
       img.rgb[3 * p] = m.x;
       img.rgb[3 * p + 1] = m.y;
       img.rgb[3 * p + 2] = m.z;
     }
     return img;
+  }
+  /// Calls f(span) for every accumulation buffer (double and uint32_t spans), always in the same order. Summing
+  /// every buffer of two films element-wise gives the film of both sample sets (same size, disjoint samples).
+  template <class F>
+  void for_each_buffer(F&& f) {
+    f(std::span<double>(sum));
+    f(std::span<uint32_t>(count));
+    f(std::span<double>(half_sum));
+    f(std::span<uint32_t>(half_count));
+    f(std::span<uint32_t>(taken));
+  }
+  template <class F>
+  void for_each_buffer(F&& f) const {
+    f(std::span<const double>(sum));
+    f(std::span<const uint32_t>(count));
+    f(std::span<const double>(half_sum));
+    f(std::span<const uint32_t>(half_count));
+    f(std::span<const uint32_t>(taken));
   }
 };
 

@@ -39,6 +39,15 @@ void RenderSession::set_paused(bool paused) {
   wake_.notify_all();
 }
 
+void RenderSession::set_adaptive(const AdaptiveParams& adaptive) {
+  {
+    std::lock_guard lock(mutex_);
+    adaptive_ = adaptive;
+    adaptive_changed_ = true;
+  }
+  wake_.notify_all();
+}
+
 void RenderSession::set_target_spp(int spp) {
   target_spp_ = spp;
   wake_.notify_all();
@@ -60,6 +69,12 @@ bool RenderSession::fetch(SessionFrame& out) {
   out.image.width = published_.image.width;
   out.image.height = published_.image.height;
   out.image.rgb.assign(published_.image.rgb.begin(), published_.image.rgb.end());
+  out.est_rel_mse = published_.est_rel_mse;
+  out.converged_fraction = published_.converged_fraction;
+  out.converged = published_.converged;
+  out.spp_stats = published_.spp_stats;
+  out.rel_error = published_.rel_error;
+  out.spp_map = published_.spp_map;
   return true;
 }
 
@@ -67,7 +82,7 @@ void RenderSession::drive(std::stop_token stop) {
   using Clock = std::chrono::steady_clock;
   std::unique_ptr<Renderer> renderer;
   int renderer_threads = -1;
-  Film film;
+  ProgressiveFilm film;
   uint64_t current = 0;
   std::shared_ptr<const RenderScene> scene;
   RenderParams params;
@@ -80,19 +95,26 @@ void RenderSession::drive(std::stop_token stop) {
     published_.epoch = current;
     published_.preview = preview;
     published_.frames = frames;
-    published_.spp = frames * params.spp_per_frame;
+    published_.spp = preview ? 0 : film.spp();
     published_.width = w;
     published_.height = h;
     published_.seconds = seconds;
     published_.counters = counters;
     published_.image = std::move(image);
+    published_.est_rel_mse = preview ? 0.0 : est_rel_mse(film.film());
+    published_.converged_fraction = preview ? 0.0 : film.converged_fraction();
+    published_.converged = !preview && film.converged();
+    published_.spp_stats = preview ? SppSummary{} : spp_summary(film.film());
+    bool maps = publish_maps_ && !preview;
+    published_.rel_error = maps ? rel_error_image(film.film()) : Image();
+    published_.spp_map = maps ? spp_image(film.film()) : Image();
   };
   while (!stop.stop_requested()) {
     {
       std::unique_lock lock(mutex_);
       wake_.wait(lock, stop, [&] {
-        bool target_reached = target_spp_ > 0 && frames * params.spp_per_frame >= target_spp_ && epoch_ == current;
-        return scene_ && (epoch_ != current || (!paused_ && !target_reached));
+        bool target_reached = target_spp_ > 0 && film.spp() >= target_spp_ && epoch_ == current;
+        return scene_ && (epoch_ != current || adaptive_changed_ || (!paused_ && !target_reached && !converged_));
       });
       if (stop.stop_requested()) break;
       if (epoch_ != current) {
@@ -103,11 +125,18 @@ void RenderSession::drive(std::stop_token stop) {
         seconds = 0.0;
         counters = {};
         film.reset(params.width, params.height);
+        adaptive_changed_ = true;
         need_preview = preview_div_ > 1;
         if (renderer_threads != params.threads || !renderer) {
           renderer = std::make_unique<Renderer>(params.threads);
           renderer_threads = params.threads;
         }
+      }
+      if (adaptive_changed_) {
+        film.set_adaptive(adaptive_);
+        adaptive_changed_ = false;
+        converged_ = film.converged();
+        continue;  // re-evaluate: a converged film may have resumed, or a paused one stays paused
       }
       cancel_ = false;
     }
@@ -125,12 +154,13 @@ void RenderSession::drive(std::stop_token stop) {
       continue;
     }
     auto t0 = Clock::now();
-    bool complete = renderer->render_frame(*scene, params, film, uint32_t(frames), frame_counters, &cancel_);
+    bool complete = film.render_frame(*renderer, *scene, params, frame_counters, &cancel_);
     if (!complete || epoch_ != current) continue;  // stale: the next loop starts the new epoch
     seconds += std::chrono::duration<double>(Clock::now() - t0).count();
     ++frames;
     counters += frame_counters;
-    publish(film.resolve(), false, params.width, params.height);
+    converged_ = film.converged();
+    publish(film.film().resolve(), false, params.width, params.height);
   }
 }
 

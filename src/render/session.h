@@ -9,6 +9,8 @@
 #include <mutex>
 #include <thread>
 
+#include "render/adaptive.h"
+#include "render/convergence.h"
 #include "render/renderer.h"
 
 namespace pt {
@@ -23,6 +25,13 @@ struct SessionFrame {
   double seconds = 0.0;     ///< render time in this epoch
   RenderCounters counters;  ///< of this epoch
   Image image;              ///< the current mean
+  // Convergence (render/convergence.h, render/adaptive.h); spp above is the maximum over pixels.
+  double est_rel_mse = 0.0;         ///< NaN until both halves of the estimator hold samples
+  double converged_fraction = 0.0;  ///< pixels adaptive sampling has stopped (0 when it is off)
+  bool converged = false;           ///< adaptive sampling is on and every pixel has stopped: the session idles
+  SppSummary spp_stats;
+  Image rel_error;  ///< per-pixel relative standard error; only with set_publish_maps(true), else empty
+  Image spp_map;    ///< samples per pixel; only with set_publish_maps(true), else empty
 };
 
 class RenderSession {
@@ -39,6 +48,11 @@ class RenderSession {
   bool paused() const { return paused_.load(); }
   /// Stop after this many samples per pixel (0: never).
   void set_target_spp(int spp);
+  /// Adaptive sampling on/off and its threshold, without a restart: the stopped set is re-evaluated at once
+  /// (lowering the threshold resumes stopped pixels; a converged session starts rendering again).
+  void set_adaptive(const AdaptiveParams& adaptive);
+  /// Also publish the per-pixel error and spp maps with every frame (costs a pass over the film).
+  void set_publish_maps(bool on) { publish_maps_ = on; }
   /// Every epoch first renders and publishes one frame at 1/divisor resolution, so an edit shows within a few
   /// milliseconds even when a full frame takes much longer (1: off).
   void set_preview_divisor(int divisor) { preview_div_ = std::max(1, divisor); }
@@ -61,6 +75,10 @@ class RenderSession {
   std::atomic<bool> paused_{false};
   std::atomic<int> target_spp_{0};
   std::atomic<int> preview_div_{1};
+  std::atomic<bool> publish_maps_{false};
+  std::atomic<bool> converged_{false};  ///< of the current epoch, written by the driver
+  AdaptiveParams adaptive_;             ///< guarded by mutex_
+  bool adaptive_changed_ = false;       ///< guarded by mutex_
   int thread_count_ = 1;
 
   std::mutex publish_mutex_;

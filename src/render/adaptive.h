@@ -1,0 +1,76 @@
+#pragma once
+/// Adaptive sampling (as Cycles does it: intern/cycles/kernel/film/adaptive_sampling.h and
+/// integrator/adaptive_sampling.cpp): after a minimum number of samples, every 16 samples the pixels whose relative
+/// standard error (pixel_rel_error, render/convergence.h) is below the noise threshold stop receiving samples.
+/// The unconverged region is dilated by one pixel first (a pixel keeps sampling while any of its 8 neighbours
+/// does), because the per-pixel estimate has one degree of freedom and can be small by chance, most harmfully
+/// at edges.
+///
+/// The active set is recomputed from the film at every check, never carried over, so changing the threshold
+/// needs no restart: lowering it makes stopped pixels active again at once, and they continue from their own
+/// next sample index (Film::taken), which keeps every pixel's samples a prefix of its sequence. Because each
+/// decision depends only on the film, which is bit-identical for any thread count, so are adaptive runs.
+#include <cstdint>
+#include <vector>
+
+#include "render/renderer.h"
+
+namespace pt {
+
+struct AdaptiveParams {
+  double noise_threshold = 0.0;  ///< 0: off (every pixel gets every sample)
+  int min_spp = 0;               ///< 0: automatic (auto_min_spp)
+  bool enabled() const { return noise_threshold > 0.0; }
+};
+
+inline constexpr int kAdaptiveCheckInterval = 16;
+
+/// Cycles' automatic minimum: ceil(16 / T^0.3), at least 4 (T = 0.1 -> 32, 0.01 -> 64, 0.001 -> 128), rounded up
+/// to a multiple of 4 so that both halves of the estimator hold samples.
+int auto_min_spp(double noise_threshold);
+int effective_min_spp(const AdaptiveParams& params);
+
+/// active[p] = 1 iff pixel p has fewer than min_spp samples or some pixel of its 3x3 neighbourhood has
+/// pixel_rel_error >= threshold (or an unknown error). Returns the number of active pixels.
+size_t compute_active_pixels(const Film& film, double threshold, int min_spp, std::vector<uint8_t>& active);
+
+/// One progressive render: the film, and which pixels still sample. The loop body shared by the headless path
+/// and the session; with adaptive sampling off it is plain progressive rendering.
+class ProgressiveFilm {
+ public:
+  void reset(int width, int height);
+  /// Takes effect at once, without a restart: the active set is recomputed if the minimum is reached.
+  void set_adaptive(const AdaptiveParams& params);
+  const AdaptiveParams& adaptive() const { return adaptive_; }
+
+  /// Adds params.spp_per_frame samples to every active pixel (each continues from its own sample index), then
+  /// runs the convergence check when one is due. False if cancelled (the film holds a partial, still consistent,
+  /// frame: every pixel's samples remain a prefix of its sequence).
+  bool render_frame(Renderer& renderer, const RenderScene& scene, const RenderParams& params,
+                    RenderCounters& counters, const std::atomic<bool>* cancel = nullptr);
+
+  const Film& film() const { return film_; }
+  Film& film() { return film_; }
+  int frames() const { return frames_; }
+  /// Samples per pixel of a pixel that never stopped (the maximum over pixels).
+  int spp() const { return level_; }
+  /// Adaptive sampling is on, past its minimum, and no pixel is active.
+  bool converged() const { return adaptive_.enabled() && checked_ && active_count_ == 0; }
+  /// Fraction of pixels that currently receive no samples (0 before the first check or when adaptive is off).
+  double converged_fraction() const;
+  const std::vector<uint8_t>& active() const { return active_; }
+
+ private:
+  void check();
+
+  Film film_;
+  AdaptiveParams adaptive_;
+  std::vector<uint8_t> active_;
+  size_t active_count_ = 0;
+  bool checked_ = false;  ///< active_ comes from a convergence check (else every pixel is active)
+  int frames_ = 0;
+  int level_ = 0;
+  int next_check_ = 0;
+};
+
+}  // namespace pt

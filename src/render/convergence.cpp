@@ -1,0 +1,77 @@
+#include "render/convergence.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace pt {
+
+bool pixel_mean_variance(const Film& film, size_t p, dvec3& mean, dvec3& var_mean) {
+  const double n = film.count[p], na = film.half_count[p], nb = n - na;
+  if (na == 0 || nb == 0) {
+    mean = n > 0 ? dvec3(film.sum[3 * p], film.sum[3 * p + 1], film.sum[3 * p + 2]) / n : dvec3(0.0);
+    var_mean = dvec3(0.0);
+    return false;
+  }
+  const dvec3 s(film.sum[3 * p], film.sum[3 * p + 1], film.sum[3 * p + 2]);
+  const dvec3 sa(film.half_sum[3 * p], film.half_sum[3 * p + 1], film.half_sum[3 * p + 2]);
+  const dvec3 a = sa / na, b = (s - sa) / nb, d = a - b;
+  mean = s / n;
+  var_mean = d * d * (na * nb / (n * n));
+  return true;
+}
+
+namespace {
+double lum(dvec3 c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }
+}  // namespace
+
+double pixel_rel_error(const Film& film, size_t p) {
+  const double n = film.count[p], na = film.half_count[p], nb = n - na;
+  if (na == 0 || nb == 0) return std::numeric_limits<double>::infinity();
+  const dvec3 s(film.sum[3 * p], film.sum[3 * p + 1], film.sum[3 * p + 2]);
+  const dvec3 sa(film.half_sum[3 * p], film.half_sum[3 * p + 1], film.half_sum[3 * p + 2]);
+  const double m = lum(s) / n, d = lum(sa) / na - lum(s - sa) / nb;
+  return std::sqrt(d * d * (na * nb / (n * n)) / (m * m + 0.01));
+}
+
+double est_rel_mse(const Film& film) {
+  double total = 0.0;
+  size_t pixels = 0;
+  for (size_t p = 0; p < film.pixel_count(); ++p) {
+    dvec3 m, v;
+    if (!pixel_mean_variance(film, p, m, v)) continue;
+    total += v.x / (m.x * m.x + 0.01) + v.y / (m.y * m.y + 0.01) + v.z / (m.z * m.z + 0.01);
+    ++pixels;
+  }
+  return pixels ? total / (3.0 * double(pixels)) : std::numeric_limits<double>::quiet_NaN();
+}
+
+Image rel_error_image(const Film& film) {
+  Image img(film.width, film.height);
+  for (size_t p = 0; p < film.pixel_count(); ++p) {
+    float e = float(pixel_rel_error(film, p));
+    img.rgb[3 * p] = img.rgb[3 * p + 1] = img.rgb[3 * p + 2] = e;
+  }
+  return img;
+}
+
+Image spp_image(const Film& film) {
+  Image img(film.width, film.height);
+  for (size_t p = 0; p < film.pixel_count(); ++p)
+    img.rgb[3 * p] = img.rgb[3 * p + 1] = img.rgb[3 * p + 2] = float(film.taken[p]);
+  return img;
+}
+
+SppSummary spp_summary(const Film& film) {
+  SppSummary s;
+  if (film.taken.empty()) return s;
+  auto [lo, hi] = std::minmax_element(film.taken.begin(), film.taken.end());
+  s.min = *lo;
+  s.max = *hi;
+  double total = 0.0;
+  for (uint32_t t : film.taken) total += t;
+  s.mean = total / double(film.taken.size());
+  return s;
+}
+
+}  // namespace pt
