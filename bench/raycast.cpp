@@ -1,6 +1,6 @@
 // Ray casting and BVH build against Embree 3: both trace the same ray sets on the same meshes.
 //   build/bench/bench_raycast [--threads N] [--reps N] [--only cornell|bunny|knot|knot6m] [--csv out.csv]
-//                             [--path-seconds S]
+//                             [--path-seconds S] [--clock wall|cpu]
 // Meshes: the built-in Cornell box, ../shared/models/stanford-bunny.obj (when present), a ~1M-triangle torus knot;
 // on request (--only knot6m) a 6.3M-triangle knot, the large-mesh report.
 // each flattened by the renderer's own path (make_render_scene), so they are exactly the triangles it traces
@@ -12,6 +12,7 @@
 // for the bunny, ptview's whole path loop (256x256, depth 8) in Mrays/s over Embree's diffuse-ray Mrays/s.
 // Without Embree (not found by CMake) only our side runs and the Embree columns show "-".
 #include <poll.h>
+#include <time.h>
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -64,23 +65,42 @@ double median(std::vector<double> v) {
   return v.empty() ? 0.0 : v[v.size() / 2];
 }
 
+/// Thread CPU time (seconds) of the calling thread.
+double thread_cpu_seconds() {
+  timespec ts;
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
+}
+
+/// --clock cpu: ray rates from the CPU time of the tracing threads (their mean) instead of the wall time, so that
+/// time a thread spends descheduled on a loaded machine is not counted. Cache pollution by other processes still is.
+bool g_cpu_clock = false;
+
 /// The same simple pool for both tracers: `threads` std::threads take chunks of kChunk items from an atomic
-/// counter and call fn(begin, end). Returns the wall time in seconds (thread start-up included: ~0.1 ms).
+/// counter and call fn(begin, end). Returns the wall time in seconds (thread start-up included: ~0.1 ms), or with
+/// g_cpu_clock the mean CPU time of the threads.
 template <class Fn>
 double parallel_for(size_t n, int threads, Fn&& fn) {
   std::atomic<size_t> next{0};
-  auto worker = [&] {
+  std::vector<double> cpu(size_t(threads), 0.0);
+  auto worker = [&](int id) {
+    const double start = thread_cpu_seconds();
     for (;;) {
       size_t begin = next.fetch_add(kChunk);
-      if (begin >= n) return;
+      if (begin >= n) break;
       fn(begin, std::min(n, begin + kChunk));
     }
+    cpu[size_t(id)] = thread_cpu_seconds() - start;
   };
   auto start = Clock::now();
   std::vector<std::thread> pool;
-  for (int i = 0; i < threads; ++i) pool.emplace_back(worker);
+  for (int i = 0; i < threads; ++i) pool.emplace_back(worker, i);
   for (std::thread& t : pool) t.join();
-  return ms_since(start) * 1e-3;
+  const double wall = ms_since(start) * 1e-3;
+  if (!g_cpu_clock) return wall;
+  double sum = 0.0;
+  for (double c : cpu) sum += c;
+  return sum / double(threads);
 }
 
 /// Runs fn in a fork()ed child and returns the numbers it produced, or nothing if it failed or did not finish
@@ -542,13 +562,21 @@ PathLoopResult run_path_loop(const RenderScene& rs, int threads, double seconds)
   Renderer renderer(threads);
   Film film(params.width, params.height);
   RenderCounters counters;
+  auto process_cpu = [] {
+    timespec ts;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+    return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
+  };
   const auto start = Clock::now();
+  const double cpu_start = process_cpu();
   double elapsed = 0.0;
   int frames = 0;
   while (elapsed < seconds || frames < 2) {
     renderer.render_frame(rs, params, film, uint32_t(frames++), counters);
     elapsed = ms_since(start) * 1e-3;
   }
+  // --clock cpu: the process's CPU time over the threads (the pool's threads sleep between frames).
+  if (g_cpu_clock) elapsed = (process_cpu() - cpu_start) / double(renderer.thread_count());
   return {frames / elapsed, double(counters.rays()) / elapsed * 1e-6};
 }
 
@@ -628,7 +656,8 @@ void run_mesh(const TestMesh& m, const Options& opt, Csv& csv) {
 }  // namespace
 
 constexpr const char* kUsage =
-    "usage: %s [--threads N] [--reps N] [--only cornell|bunny|knot|knot6m] [--csv FILE] [--path-seconds S]\n";
+    "usage: %s [--threads N] [--reps N] [--only cornell|bunny|knot|knot6m] [--csv FILE] [--path-seconds S]\n"
+    "       [--clock wall|cpu]\n";
 
 int main(int argc, char** argv) {
   Options opt;
@@ -641,6 +670,8 @@ int main(int argc, char** argv) {
     else if (!std::strcmp(argv[i], "--reps")) opt.reps = std::max(1, std::atoi(argv[i + 1]));
     else if (!std::strcmp(argv[i], "--csv")) opt.csv = argv[i + 1];
     else if (!std::strcmp(argv[i], "--only")) opt.only = argv[i + 1];
+    else if (!std::strcmp(argv[i], "--clock") && (!std::strcmp(argv[i + 1], "cpu") || !std::strcmp(argv[i + 1], "wall")))
+      g_cpu_clock = !std::strcmp(argv[i + 1], "cpu");
     else if (!std::strcmp(argv[i], "--path-seconds")) opt.path_seconds = std::max(0.0, std::atof(argv[i + 1]));
     else {
       std::fprintf(stderr, kUsage, argv[0]);
@@ -660,6 +691,7 @@ int main(int argc, char** argv) {
                 bench::embree_version().c_str());
   else
     std::printf("Embree 3 was not found when configuring: our side only\n");
+  if (g_cpu_clock) std::printf("ray rates: rays per second of CPU time of the tracing threads (--clock cpu)\n");
   std::printf("disagreements: hit/miss = one hits and the other misses (shadow: occluded flags differ); "
               "t diff = both hit, |t_ours - t_embree| > 1e-4 t\n");
   std::printf("peak MB: growth of the process's peak RSS during the build; mon. MB: Embree's memory monitor; "
