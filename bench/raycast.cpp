@@ -1,14 +1,18 @@
 // Ray casting and BVH build against Embree 3: both trace the same ray sets on the same meshes.
-//   build/bench/bench_raycast [--threads N] [--reps N] [--only cornell|bunny|knot] [--csv out.csv]
+//   build/bench/bench_raycast [--threads N] [--reps N] [--only cornell|bunny|knot|knot6m] [--csv out.csv]
+//                             [--path-seconds S] [--clock wall|cpu]
 // Meshes: the built-in Cornell box, ../shared/models/stanford-bunny.obj (when present), a ~1M-triangle torus knot;
+// on request (--only knot6m) a 6.3M-triangle knot, the large-mesh report.
 // each flattened by the renderer's own path (make_render_scene), so they are exactly the triangles it traces
 // (the rectangle light included: the two triangles of its quad).
 // Ray sets (generated once, deterministic, stored): primary rays (512x512, 4 jittered per pixel), diffuse bounces
 // from our primary hits (closest hit), shadow rays from those hits to the rectangle light (any hit).
 // Reported: Mrays/s with 1 and N threads, our/Embree ratio, disagreements on every ray; build time, Mtris/s, SAH
-// cost against a full-sweep SAH build, bytes per triangle and peak memory against Embree's MEDIUM and HIGH builds.
+// cost against a full-sweep SAH build, bytes per triangle and peak memory against Embree's MEDIUM and HIGH builds;
+// for the bunny, ptview's whole path loop (256x256, depth 8) in Mrays/s over Embree's diffuse-ray Mrays/s.
 // Without Embree (not found by CMake) only our side runs and the Embree columns show "-".
 #include <poll.h>
+#include <time.h>
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -34,6 +38,7 @@
 #include "raycast_embree.h"
 #include "render/camera.h"
 #include "render/render_scene.h"
+#include "render/renderer.h"
 #include "scene/load.h"
 #include "scene/procedural.h"
 
@@ -60,23 +65,42 @@ double median(std::vector<double> v) {
   return v.empty() ? 0.0 : v[v.size() / 2];
 }
 
+/// Thread CPU time (seconds) of the calling thread.
+double thread_cpu_seconds() {
+  timespec ts;
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
+}
+
+/// --clock cpu: ray rates from the CPU time of the tracing threads (their mean) instead of the wall time, so that
+/// time a thread spends descheduled on a loaded machine is not counted. Cache pollution by other processes still is.
+bool g_cpu_clock = false;
+
 /// The same simple pool for both tracers: `threads` std::threads take chunks of kChunk items from an atomic
-/// counter and call fn(begin, end). Returns the wall time in seconds (thread start-up included: ~0.1 ms).
+/// counter and call fn(begin, end). Returns the wall time in seconds (thread start-up included: ~0.1 ms), or with
+/// g_cpu_clock the mean CPU time of the threads.
 template <class Fn>
 double parallel_for(size_t n, int threads, Fn&& fn) {
   std::atomic<size_t> next{0};
-  auto worker = [&] {
+  std::vector<double> cpu(size_t(threads), 0.0);
+  auto worker = [&](int id) {
+    const double start = thread_cpu_seconds();
     for (;;) {
       size_t begin = next.fetch_add(kChunk);
-      if (begin >= n) return;
+      if (begin >= n) break;
       fn(begin, std::min(n, begin + kChunk));
     }
+    cpu[size_t(id)] = thread_cpu_seconds() - start;
   };
   auto start = Clock::now();
   std::vector<std::thread> pool;
-  for (int i = 0; i < threads; ++i) pool.emplace_back(worker);
+  for (int i = 0; i < threads; ++i) pool.emplace_back(worker, i);
   for (std::thread& t : pool) t.join();
-  return ms_since(start) * 1e-3;
+  const double wall = ms_since(start) * 1e-3;
+  if (!g_cpu_clock) return wall;
+  double sum = 0.0;
+  for (double c : cpu) sum += c;
+  return sum / double(threads);
 }
 
 /// Runs fn in a fork()ed child and returns the numbers it produced, or nothing if it failed or did not finish
@@ -123,6 +147,7 @@ struct TestMesh {
   std::string name;
   RenderScene rs;  ///< flattened triangles (rs.geo->tri_vertices, origin-shifted), camera, lights
   std::optional<Light> light;  ///< the rectangle light the shadow rays aim at
+  std::optional<Scene> path_scene;  ///< the scene as loaded (default camera), for the path-loop row (bunny)
 
   const std::vector<vec3>& vertices() const { return rs.geo->tri_vertices; }
   size_t triangles() const { return rs.triangle_count(); }
@@ -169,7 +194,20 @@ std::optional<TestMesh> load_test_mesh(const std::string& name) {
       std::printf("\nbunny: %s\n", s.error().c_str());
       return std::nullopt;
     }
-    return make_test_mesh(name, *s);
+    std::optional<TestMesh> m = make_test_mesh(name, *s);
+    if (m) m->path_scene = std::move(*s);
+    return m;
+  }
+  if (name == "knot6m") {  // 2 * 8192 * 384 = 6,291,456 triangles: the large-mesh report (opt-in, --only knot6m)
+    Scene scene;
+    scene.source = "knot6m";
+    scene.materials.push_back(Material{"knot"});
+    TorusKnotParams params;
+    params.segments = 8192;
+    params.sides = 384;
+    scene.meshes.push_back(make_torus_knot(params, 0));
+    finalize_scene(scene);
+    return make_test_mesh(name, scene);
   }
   // 2 * 4096 * 128 = 1,048,576 triangles (plus the light's two).
   Scene scene;
@@ -236,6 +274,7 @@ struct Options {
   int reps = 5;
   std::string csv = "raycast.csv";
   std::string only;
+  double path_seconds = 3.0;
 };
 
 std::string fmt(double v, const char* f = "%.2f") {
@@ -510,6 +549,37 @@ TraceRow trace_any(const std::string& set, const std::vector<Ray>& rays, const T
   return row;
 }
 
+/// ptview's path loop as the headless mode runs it: 256x256, max depth 8, default integrator, light sampling and
+/// sampler, 1 spp frames for at least `seconds` (and 2 frames). Mrays/s counts camera, bounce and shadow rays.
+struct PathLoopResult {
+  double spp_per_s = -1, mrays_per_s = -1;
+};
+PathLoopResult run_path_loop(const RenderScene& rs, int threads, double seconds) {
+  RenderParams params;
+  params.width = params.height = 256;
+  params.max_depth = 8;
+  params.threads = threads;
+  Renderer renderer(threads);
+  Film film(params.width, params.height);
+  RenderCounters counters;
+  auto process_cpu = [] {
+    timespec ts;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+    return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
+  };
+  const auto start = Clock::now();
+  const double cpu_start = process_cpu();
+  double elapsed = 0.0;
+  int frames = 0;
+  while (elapsed < seconds || frames < 2) {
+    renderer.render_frame(rs, params, film, uint32_t(frames++), counters);
+    elapsed = ms_since(start) * 1e-3;
+  }
+  // --clock cpu: the process's CPU time over the threads (the pool's threads sleep between frames).
+  if (g_cpu_clock) elapsed = (process_cpu() - cpu_start) / double(renderer.thread_count());
+  return {frames / elapsed, double(counters.rays()) / elapsed * 1e-6};
+}
+
 // ---------------------------------------------------------------------------------------------------------------
 
 void run_mesh(const TestMesh& m, const Options& opt, Csv& csv) {
@@ -555,36 +625,62 @@ void run_mesh(const TestMesh& m, const Options& opt, Csv& csv) {
   std::printf("\n");
   print_trace_header();
   std::vector<std::string> notes;
+  std::vector<double> embree_diffuse;  // per entry of thread_counts, for the path-loop ratio
   for (int t : thread_counts) {
     std::vector<std::string>* n = t == 1 ? &notes : nullptr;  // disagreements are listed once (1-thread rows)
     emit_trace_row(m, trace_closest("primary", sets.primary, m, ours, embree.get(), t, opt.reps, n), csv);
-    emit_trace_row(m, trace_closest("diffuse", sets.diffuse, m, ours, embree.get(), t, opt.reps, n), csv);
+    const TraceRow diffuse = trace_closest("diffuse", sets.diffuse, m, ours, embree.get(), t, opt.reps, n);
+    emit_trace_row(m, diffuse, csv);
+    embree_diffuse.push_back(diffuse.embree);
     if (!sets.shadow.empty())
       emit_trace_row(m, trace_any("shadow", sets.shadow, m, ours, embree.get(), t, opt.reps, n), csv);
   }
   for (const std::string& s : notes) std::printf("  disagreement: %s\n", s.c_str());
+  if (!m.path_scene) return;
+  // The whole path loop against bare rays: ptview's own Mrays/s (camera + bounce + shadow rays, as mrays_per_s in
+  // the stats JSON) rendering the scene as loaded, over Embree's diffuse-ray Mrays/s measured above in this run.
+  std::printf("\n%-8s %-26s %8s %12s %16s %11s\n", "mesh", "path loop", "threads", "spp/s", "ptview Mrays/s",
+              "/ Embree diffuse");
+  const RenderScene rs = make_render_scene(*m.path_scene);
+  for (size_t k = 0; k < thread_counts.size(); ++k) {
+    const PathLoopResult p = run_path_loop(rs, thread_counts[k], opt.path_seconds);
+    const double ratio = embree_diffuse[k] > 0.0 ? p.mrays_per_s / embree_diffuse[k] : -1.0;
+    std::printf("%-8s %-26s %8d %12s %16s %11s\n", m.name.c_str(), "256x256, depth 8, defaults", thread_counts[k],
+                fmt(p.spp_per_s).c_str(), fmt(p.mrays_per_s).c_str(), fmt(ratio, "%.3f").c_str());
+    csv.row({"path", m.name, std::to_string(m.triangles()), "path loop 256x256 depth 8",
+             std::to_string(thread_counts[k]), "", "", Csv::cell(p.mrays_per_s), Csv::cell(embree_diffuse[k]),
+             Csv::cell(ratio), "", "", "", "", "", "", "", "", "", ""});
+  }
 }
 
 }  // namespace
+
+constexpr const char* kUsage =
+    "usage: %s [--threads N] [--reps N] [--only cornell|bunny|knot|knot6m] [--csv FILE] [--path-seconds S]\n"
+    "       [--clock wall|cpu]\n";
 
 int main(int argc, char** argv) {
   Options opt;
   for (int i = 1; i < argc; i += 2) {
     if (i + 1 == argc) {
-      std::fprintf(stderr, "usage: %s [--threads N] [--reps N] [--only cornell|bunny|knot] [--csv FILE]\n", argv[0]);
+      std::fprintf(stderr, kUsage, argv[0]);
       return 2;
     }
     if (!std::strcmp(argv[i], "--threads")) opt.threads = std::max(1, std::atoi(argv[i + 1]));
     else if (!std::strcmp(argv[i], "--reps")) opt.reps = std::max(1, std::atoi(argv[i + 1]));
     else if (!std::strcmp(argv[i], "--csv")) opt.csv = argv[i + 1];
     else if (!std::strcmp(argv[i], "--only")) opt.only = argv[i + 1];
+    else if (!std::strcmp(argv[i], "--clock") && (!std::strcmp(argv[i + 1], "cpu") || !std::strcmp(argv[i + 1], "wall")))
+      g_cpu_clock = !std::strcmp(argv[i + 1], "cpu");
+    else if (!std::strcmp(argv[i], "--path-seconds")) opt.path_seconds = std::max(0.0, std::atof(argv[i + 1]));
     else {
-      std::fprintf(stderr, "usage: %s [--threads N] [--reps N] [--only cornell|bunny|knot] [--csv FILE]\n", argv[0]);
+      std::fprintf(stderr, kUsage, argv[0]);
       return 2;
     }
   }
-  if (!opt.only.empty() && opt.only != "cornell" && opt.only != "bunny" && opt.only != "knot") {
-    std::fprintf(stderr, "--only: cornell, bunny or knot\n");
+  if (!opt.only.empty() && opt.only != "cornell" && opt.only != "bunny" && opt.only != "knot" &&
+      opt.only != "knot6m") {
+    std::fprintf(stderr, "--only: cornell, bunny, knot or knot6m\n");
     return 2;
   }
   std::printf("bench_raycast: %dx%d x %d primary rays; threads 1%s; times: median of %d runs\n", kImageSize,
@@ -595,13 +691,15 @@ int main(int argc, char** argv) {
                 bench::embree_version().c_str());
   else
     std::printf("Embree 3 was not found when configuring: our side only\n");
+  if (g_cpu_clock) std::printf("ray rates: rays per second of CPU time of the tracing threads (--clock cpu)\n");
   std::printf("disagreements: hit/miss = one hits and the other misses (shadow: occluded flags differ); "
               "t diff = both hit, |t_ours - t_embree| > 1e-4 t\n");
   std::printf("peak MB: growth of the process's peak RSS during the build; mon. MB: Embree's memory monitor; "
               "B/tri: ours stats.memory_bytes, Embree net bytes after the commit\n");
   Csv csv(opt.csv);
-  for (const char* name : {"cornell", "bunny", "knot"}) {
-    if (!opt.only.empty() && opt.only != name) continue;
+  for (const char* name : {"cornell", "bunny", "knot", "knot6m"}) {
+    // knot6m (6.3M triangles, the large-mesh report) runs only when asked for.
+    if (opt.only.empty() ? std::strcmp(name, "knot6m") == 0 : opt.only != name) continue;
     std::optional<TestMesh> m = load_test_mesh(name);
     if (m) run_mesh(*m, opt, csv);
   }

@@ -1,5 +1,6 @@
 /// Building the 8-wide tree from the binary one, and refitting it.
 #include "accel/bvh8.h"
+#include "accel/parallel.h"
 
 #include <algorithm>
 #include <stdexcept>
@@ -34,10 +35,11 @@ AABB block_box(const Tri4& block, std::span<const vec3> vertices) {
   return b;
 }
 
+/// Builds the tree's structure: nodes, and blocks with their prim ids; the vertices are gathered afterwards.
 struct Collapser {
   const Bvh& binary;
-  std::span<const vec3> vertices;
   Bvh8& out;
+  std::vector<uint32_t>& blocks;  ///< offsets of the blocks made, for the (parallel) vertex gather
 
   uint32_t allocate(uint32_t units) {
     const size_t offset = out.units.size();
@@ -55,7 +57,7 @@ struct Collapser {
         const uint32_t i = 4 * k + lane;
         block.prim[lane] = i < leaf.count ? binary.prim_indices[leaf.first + i] : kInvalidPrim;
       }
-      fill_block(block, vertices);
+      blocks.push_back(first + k * kBlockUnits);
     }
     out.block_count += count;
     return make_leaf_ref(first, count);
@@ -126,7 +128,7 @@ AABB refit_node(Bvh8& bvh, ChildRef ref, std::span<const vec3> vertices) {
 
 }  // namespace
 
-Bvh8 make_bvh8(const Bvh& binary, std::span<const vec3> triangle_vertices) {
+Bvh8 make_bvh8(const Bvh& binary, std::span<const vec3> triangle_vertices, int threads) {
   Bvh8 out;
   if (binary.nodes.empty()) return out;
   size_t leaves = 0;
@@ -134,7 +136,13 @@ Bvh8 make_bvh8(const Bvh& binary, std::span<const vec3> triangle_vertices) {
   // About one wide node per 4 binary interior nodes, and up to ceil(n/4) + leaves blocks.
   out.units.reserve(kNodeUnits * (binary.nodes.size() / 4 + 2) +
                     kBlockUnits * (binary.prim_indices.size() / 4 + leaves));
-  Collapser{binary, triangle_vertices, out}.collapse(0);
+  std::vector<uint32_t> blocks;
+  blocks.reserve(binary.prim_indices.size() / 4 + leaves);
+  Collapser{binary, out, blocks}.collapse(0);
+  // Gathering the vertices is most of the collapse's time (random reads): in parallel.
+  parallel_chunks(blocks.size(), threads, 2048, [&](int, size_t begin, size_t end) {
+    for (size_t k = begin; k < end; ++k) fill_block(out.block(blocks[k]), triangle_vertices);
+  });
   return out;
 }
 

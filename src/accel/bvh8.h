@@ -90,8 +90,9 @@ struct Bvh8 {
 /// Collapses `binary` (built over the triangles; triangle i is vertices 3i..3i+2) into an 8-wide tree, opening the
 /// child with the largest surface area until a node has 8 children. Leaves of the binary tree become leaves of
 /// ceil(count / 4) blocks. Throws std::length_error beyond kMaxArenaUnits (16 GiB of tree, about 250M
-/// triangles: more than memory allows anyway), as std::vector throws std::bad_alloc.
-Bvh8 make_bvh8(const Bvh& binary, std::span<const vec3> triangle_vertices);
+/// triangles: more than memory allows anyway), as std::vector throws std::bad_alloc. The leaf blocks are filled
+/// on up to `threads` threads; the result does not depend on the count.
+Bvh8 make_bvh8(const Bvh& binary, std::span<const vec3> triangle_vertices, int threads = 1);
 
 /// Rewrites the triangle data and all boxes after the vertices moved, keeping the topology.
 void refit_bvh8(Bvh8& bvh, std::span<const vec3> triangle_vertices);

@@ -9,10 +9,13 @@
 
 #include <algorithm>
 #include <atomic>
+#include <condition_variable>
 #include <memory>
+#include <mutex>
 #include <thread>
 
 #include "accel/bvh.h"
+#include "accel/parallel.h"
 
 namespace pt {
 namespace {
@@ -20,7 +23,7 @@ namespace {
 constexpr int kMaxBins = 64;
 /// Below this depth the SAH decides; beyond it splits are median splits so the depth stays bounded.
 constexpr int kSahDepthLimit = kBvhMaxDepth - 32;
-/// Subtrees smaller than this are built by the thread that made them.
+/// Subtrees of at least this many primitives are built as jobs of their own, which any build thread may take.
 constexpr uint32_t kMinParallelPrims = 4096;
 
 /// A box as two SSE registers (the w lanes are ignored): one min and one max per extend.
@@ -77,6 +80,9 @@ struct Builder {
   int max_bins;
   uint32_t max_leaf;
   std::atomic<int> depth{0};
+
+  Builder(std::span<PrimRef> r, const BvhBuildOptions& o)
+      : refs(r), options(o), max_bins(std::clamp(o.bins, 2, kMaxBins)), max_leaf(uint32_t(std::max(1, o.max_leaf_size))) {}
 
   struct Task {
     uint32_t node, begin, end;
@@ -200,64 +206,119 @@ struct Builder {
     return true;
   }
 
-  /// Builds the subtree of `root` (a task whose node is nodes[root.node]) into `nodes`. Big nodes hand their right
-  /// child to a new thread while `spare_threads` > 0; that thread builds into its own vector (no shared counter, no
-  /// false sharing), which is appended here after the join with its child indices shifted.
-  void build(Task root, int spare_threads, std::vector<BvhNode>& nodes) {
-    struct Handoff {
-      uint32_t slot;  ///< the placeholder node in `nodes` the subtree's root replaces
-      std::vector<BvhNode> nodes;
-      std::thread thread;
-    };
-    std::vector<std::unique_ptr<Handoff>> handoffs;
-    std::vector<Task> stack{root};
+  /// A subtree built as one unit of work into its own node vector (its root is nodes[0]). Every child task of
+  /// kMinParallelPrims or more primitives becomes a job of its own, whatever the thread count, so the jobs and
+  /// therefore the final node order (stitch) are the same for any number of threads: the build is deterministic.
+  struct Job {
+    Task task;
+    std::vector<BvhNode> nodes;
+    std::vector<std::pair<uint32_t, std::unique_ptr<Job>>> children;  ///< (placeholder node in `nodes`, job)
+  };
+
+  /// Jobs waiting for a thread; `unfinished` counts queued and running jobs.
+  std::mutex queue_mutex;
+  std::condition_variable queue_cv;
+  std::vector<Job*> queue;
+  size_t unfinished = 0;
+
+  void enqueue(Job* job) {
+    {
+      std::lock_guard<std::mutex> lock(queue_mutex);
+      queue.push_back(job);
+      ++unfinished;
+    }
+    queue_cv.notify_one();
+  }
+
+  /// Takes jobs until all are done (the main thread and the helper threads alike).
+  void work() {
     Bin bins[3][kMaxBins];  // scratch, reused by every node this thread splits
     int local_depth = 0;
+    for (;;) {
+      Job* job;
+      {
+        std::unique_lock<std::mutex> lock(queue_mutex);
+        queue_cv.wait(lock, [&] { return !queue.empty() || unfinished == 0; });
+        if (queue.empty()) break;
+        job = queue.back();
+        queue.pop_back();
+      }
+      run(*job, bins, local_depth);
+      bool all_done;
+      {
+        std::lock_guard<std::mutex> lock(queue_mutex);
+        all_done = --unfinished == 0;
+      }
+      if (all_done) queue_cv.notify_all();
+    }
+    int d = depth.load();
+    while (local_depth > d && !depth.compare_exchange_weak(d, local_depth)) {}
+  }
+
+  /// Builds the subtree of job.task into job.nodes; children of kMinParallelPrims or more become new jobs.
+  void run(Job& job, Bin (*bins)[kMaxBins], int& local_depth) {
+    job.nodes.reserve(2 * size_t(std::min(job.task.end - job.task.begin, 2 * kMinParallelPrims)));
+    job.nodes.emplace_back();
+    std::vector<Task> stack{job.task};
+    stack.back().node = 0;
     while (!stack.empty()) {
       Task t = stack.back();
       stack.pop_back();
       local_depth = std::max(local_depth, t.depth);
-      nodes[t.node].bounds = t.bounds.box.aabb();
-      Task left, right;
-      if (!split(t, left, right, bins)) {
-        nodes[t.node].first = t.begin;
-        nodes[t.node].count = t.end - t.begin;
+      job.nodes[t.node].bounds = t.bounds.box.aabb();
+      Task children[2];
+      if (!split(t, children[0], children[1], bins)) {
+        job.nodes[t.node].first = t.begin;
+        job.nodes[t.node].count = t.end - t.begin;
         continue;
       }
-      const uint32_t first = uint32_t(nodes.size());
-      nodes[t.node].first = first;
-      nodes[t.node].count = 0;
-      nodes.emplace_back();
-      nodes.emplace_back();
-      left.node = first;
-      right.node = first + 1;
-      if (spare_threads > 0 && std::min(left.end - left.begin, right.end - right.begin) >= kMinParallelPrims) {
-        const int give = (spare_threads + 1) / 2;  // the new thread takes half of the spare threads with it
-        spare_threads -= give;
-        auto h = std::make_unique<Handoff>();
-        h->slot = right.node;
-        h->nodes.reserve(2 * size_t(right.end - right.begin));
-        h->nodes.emplace_back();
-        right.node = 0;
-        h->thread = std::thread([this, right, give, hp = h.get()] { build(right, give - 1, hp->nodes); });
-        handoffs.push_back(std::move(h));
-      } else {
-        stack.push_back(right);
+      const uint32_t first = uint32_t(job.nodes.size());
+      job.nodes[t.node].first = first;
+      job.nodes[t.node].count = 0;
+      job.nodes.emplace_back();
+      job.nodes.emplace_back();
+      for (int k = 1; k >= 0; --k) {  // right pushed first: the left subtree is built first
+        Task& c = children[k];
+        c.node = first + uint32_t(k);
+        if (c.end - c.begin >= kMinParallelPrims) {
+          auto child = std::make_unique<Job>();
+          child->task = c;
+          Job* raw = child.get();
+          job.children.emplace_back(c.node, std::move(child));
+          enqueue(raw);
+        } else {
+          stack.push_back(c);
+        }
       }
-      stack.push_back(left);
     }
-    for (auto& h : handoffs) {
-      h->thread.join();
-      const uint32_t base = uint32_t(nodes.size()) - 1;  // sub-tree node i >= 1 goes to base + i
-      auto moved = [&](BvhNode n) {
-        if (!n.is_leaf()) n.first += base;
-        return n;
-      };
-      nodes[h->slot] = moved(h->nodes[0]);
-      for (size_t i = 1; i < h->nodes.size(); ++i) nodes.push_back(moved(h->nodes[i]));
-    }
-    int d = depth.load();
-    while (local_depth > d && !depth.compare_exchange_weak(d, local_depth)) {}
+  }
+
+  /// Appends `job`'s nodes to `out`, its root going to out[slot] (the root job: out is empty), then its child jobs
+  /// in the order they were made, with every child index shifted to its place in `out`.
+  static void stitch(Job& job, uint32_t slot, std::vector<BvhNode>& out) {
+    const bool root = out.empty();
+    const uint32_t base = root ? 0u : uint32_t(out.size()) - 1u;  // node i >= 1 goes to base + i
+    auto moved = [&](BvhNode n) {
+      if (!n.is_leaf()) n.first += base;
+      return n;
+    };
+    if (root) out.push_back(moved(job.nodes[0]));
+    else out[slot] = moved(job.nodes[0]);
+    for (size_t i = 1; i < job.nodes.size(); ++i) out.push_back(moved(job.nodes[i]));
+    std::vector<BvhNode>().swap(job.nodes);
+    for (auto& [local_slot, child] : job.children) stitch(*child, local_slot + base, out);
+  }
+
+  /// Builds the whole tree with `threads` threads (the caller's included) into `out`.
+  void build(const Task& root, int threads, std::vector<BvhNode>& out) {
+    Job root_job;
+    root_job.task = root;
+    enqueue(&root_job);
+    std::vector<std::thread> helpers;
+    for (int i = 1; i < threads; ++i) helpers.emplace_back([this] { work(); });
+    work();
+    for (std::thread& h : helpers) h.join();
+    stitch(root_job, 0, out);
   }
 };
 
@@ -267,24 +328,27 @@ Bvh build_bvh(std::span<const AABB> boxes, std::span<const vec3> centers, const 
   Bvh bvh;
   const uint32_t n = uint32_t(boxes.size());
   if (n == 0) return bvh;
+  const int threads = build_threads(options.threads);
   std::vector<PrimRef> refs(n);
+  RangeBounds part[64];
+  const int parts = std::min(threads, 64);
+  parallel_chunks(n, parts, kMinParallelPrims, [&](int chunk, size_t begin, size_t end) {
+    RangeBounds b;
+    for (uint32_t i = uint32_t(begin); i < end; ++i) {
+      const AABB box = finite_or_empty(boxes[i]);
+      const vec3 c = is_finite(centers[i]) ? centers[i] : vec3(0.0f);  // no NaN in the bins or the median's order
+      refs[i].box = {_mm_setr_ps(box.lo.x, box.lo.y, box.lo.z, 0.0f), _mm_setr_ps(box.hi.x, box.hi.y, box.hi.z, 0.0f)};
+      refs[i].center = _mm_setr_ps(c.x, c.y, c.z, 0.0f);
+      refs[i].id = i;
+      b.extend(refs[i]);
+    }
+    part[chunk] = b;  // min and max: the same bounds however the chunks fall
+  });
   RangeBounds all;
-  for (uint32_t i = 0; i < n; ++i) {
-    const AABB b = finite_or_empty(boxes[i]);
-    const vec3 c = is_finite(centers[i]) ? centers[i] : vec3(0.0f);  // no NaN in the bins or the median's order
-    refs[i].box = {_mm_setr_ps(b.lo.x, b.lo.y, b.lo.z, 0.0f), _mm_setr_ps(b.hi.x, b.hi.y, b.hi.z, 0.0f)};
-    refs[i].center = _mm_setr_ps(c.x, c.y, c.z, 0.0f);
-    refs[i].id = i;
-    all.extend(refs[i]);
-  }
+  for (const RangeBounds& b : part) all.extend(b);
   bvh.nodes.reserve(2 * size_t(n));
-  bvh.nodes.emplace_back();
-  Builder b{refs,
-            options,
-            std::clamp(options.bins, 2, kMaxBins),
-            uint32_t(std::max(1, options.max_leaf_size))};
-  int threads = options.threads > 0 ? options.threads : int(std::max(1u, std::thread::hardware_concurrency()));
-  b.build({0, 0, n, 0, all}, threads - 1, bvh.nodes);
+  Builder b(refs, options);
+  b.build({0, 0, n, 0, all}, threads, bvh.nodes);
   bvh.depth = b.depth.load();
   bvh.prim_indices.resize(n);
   for (uint32_t i = 0; i < n; ++i) bvh.prim_indices[i] = refs[i].id;

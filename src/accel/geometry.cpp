@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 
+#include "accel/parallel.h"
 #include "accel/sphere.h"
 
 namespace pt {
@@ -56,23 +57,26 @@ TraceGeometry make_trace_geometry(std::span<const vec3> triangle_vertices, std::
   const auto start = std::chrono::steady_clock::now();
   TraceGeometry g;
   g.triangle_count = uint32_t(triangle_vertices.size() / 3);
+  const int threads = build_threads(options.threads);
   {
     Bvh binary;
     {  // the boxes are freed before the collapse allocates the wide tree: a lower peak
       std::vector<AABB> boxes(g.triangle_count);
       std::vector<vec3> centers(g.triangle_count);
-      for (uint32_t i = 0; i < g.triangle_count; ++i) {
-        AABB b;
-        for (int k = 0; k < 3; ++k) b.extend(triangle_vertices[3 * size_t(i) + k]);
-        boxes[i] = b;
-        centers[i] = b.center();
-      }
+      parallel_chunks(g.triangle_count, threads, 16384, [&](int, size_t begin, size_t end) {
+        for (size_t i = begin; i < end; ++i) {
+          AABB b;
+          for (int k = 0; k < 3; ++k) b.extend(triangle_vertices[3 * i + k]);
+          boxes[i] = b;
+          centers[i] = b.center();
+        }
+      });
       binary = build_bvh(boxes, centers, triangle_build_options(options));
     }
     g.stats.binary_nodes = binary.nodes.size();
     g.stats.depth = binary.depth;
     g.stats.sah_cost = sah_cost(binary, options.traversal_cost);
-    g.triangles = make_bvh8(binary, triangle_vertices);
+    g.triangles = make_bvh8(binary, triangle_vertices, threads);
   }
   {
     std::vector<AABB> boxes(spheres.size());
