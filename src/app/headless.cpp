@@ -32,57 +32,83 @@ void print_progress(int frame, int frames_total, int spp, double seconds, uint64
 
 }  // namespace
 
-int run_headless(const AppOptions& options, const Scene& scene) {
+int run_headless(const AppOptions& options, const Scene& scene, Cluster& cluster) {
   const RenderParams& params = options.render;
   RenderScene rs = make_render_scene(scene);
-  for (const std::string& w : scene.warnings)
+  for (const std::string& w : cluster.root() ? scene.warnings : std::vector<std::string>{})
     std::fprintf(stderr, "ptview: warning: %s\n", Error::one_line(w).c_str());
 
   std::optional<Image> reference;
   std::ostringstream error_csv;
-  if (!options.reference.empty()) {
+  std::string reference_error;  // only rank 0 reads the reference
+  if (!options.reference.empty() && cluster.root()) {
     Result<Image> ref = load_image(options.reference);
     if (!ref) {
-      std::fprintf(stderr, "ptview: error: %s\n", ref.error().c_str());
-      return 2;
+      reference_error = ref.error();
+    } else if (ref->width != params.width || ref->height != params.height) {
+      reference_error = options.reference + ": reference is " + std::to_string(ref->width) + "x" +
+                        std::to_string(ref->height) + " but the render is " + std::to_string(params.width) + "x" +
+                        std::to_string(params.height);
+    } else {
+      reference = std::move(*ref);
+      error_csv << "frame,spp,seconds,rmse,rel_mse\n";
     }
-    if (ref->width != params.width || ref->height != params.height) {
-      std::fprintf(stderr, "ptview: error: %s: reference is %dx%d but the render is %dx%d\n",
-                   options.reference.c_str(), ref->width, ref->height, params.width, params.height);
-      return 2;
-    }
-    reference = std::move(*ref);
-    error_csv << "frame,spp,seconds,rmse,rel_mse\n";
   }
+  if (std::string err = cluster.first_error(reference_error); !err.empty()) return report_error(cluster, err);
 
+  // Sample-range sharding (dist/cluster.h): in round k this rank renders global frame k * ranks + rank; with one
+  // process that is frame k. `film` holds this rank's samples, `total` all ranks' (on rank 0).
+  const int ranks = cluster.ranks();
   Renderer renderer(params.threads);
-  Film film(params.width, params.height);
+  Film film(params.width, params.height), total;
   RunSummary run;
+  RankWork mine;
   run.threads = renderer.thread_count();
-  const bool progress = ::isatty(STDERR_FILENO);
+  const bool progress = ::isatty(STDERR_FILENO) && cluster.root();
   const int frames_total = options.frames.value_or(0);  // 0: until the time limit
   const Clock::time_point start = Clock::now();
-  double render_seconds = 0.0;
-  for (int frame = 0; frames_total == 0 || frame < frames_total; ++frame) {
+  double render_seconds = 0.0;  // rank 0: rendering and combining the ranks' films
+  bool summed = false;          // `total` holds the current round
+  for (int round = 0; frames_total == 0 || int64_t(round) * ranks < frames_total; ++round) {
     Clock::time_point t0 = Clock::now();
-    renderer.render_frame(rs, params, film, uint32_t(frame), run.counters);
-    render_seconds += seconds_since(t0);
-    run.frames = frame + 1;
+    const int64_t frame = shard_frame(round, cluster.rank(), ranks);
+    if (frames_total == 0 || frame < frames_total) {
+      renderer.render_frame(rs, params, film, uint32_t(frame), run.counters);
+      mine.spp += params.spp_per_frame;
+      mine.seconds += seconds_since(t0);
+    }
+    run.frames = int(frames_after_rounds(round + 1, ranks, frames_total));
     run.spp = run.frames * params.spp_per_frame;
+    summed = false;
+    if (options.error_csv.size() && ranks > 1) {
+      cluster.sum_films(film, total);
+      summed = true;
+    }
+    render_seconds += seconds_since(t0);
     if (reference) {
-      ImageError e = compare_images(film.resolve(), *reference);
+      ImageError e = compare_images((ranks > 1 ? total : film).resolve(), *reference);
       char row[160];
       std::snprintf(row, sizeof row, "%d,%d,%.6f,%.9g,%.9g\n", run.frames, run.spp, render_seconds, e.rmse, e.rel_mse);
       error_csv << row;
     }
     if (progress) print_progress(run.frames, frames_total, run.spp, render_seconds, run.counters.rays(), false);
-    if (options.time_limit && seconds_since(start) >= *options.time_limit) break;
+    if (options.time_limit && cluster.any(seconds_since(start) >= *options.time_limit)) break;
+  }
+  if (ranks > 1) {
+    Clock::time_point t0 = Clock::now();
+    if (!summed) cluster.sum_films(film, total);
+    run.counters = cluster.sum_counters(run.counters);
+    render_seconds += seconds_since(t0);
   }
   run.seconds = render_seconds;
+  run.per_rank = cluster.gather_work(mine);
+  run.comm_ms = cluster.comm_ms();
+  if (!cluster.root()) return 0;  // rank 0 writes every output
   if (progress) print_progress(run.frames, frames_total, run.spp, render_seconds, run.counters.rays(), true);
+  const Film& image = ranks > 1 ? total : film;
 
   int code = 0;
-  if (auto err = save_image(options.out, film.resolve(), options.display)) {
+  if (auto err = save_image(options.out, image.resolve(), options.display)) {
     std::fprintf(stderr, "ptview: error: %s\n", err->message.c_str());
     code = 2;
   } else if (!options.out_given) {

@@ -2,6 +2,7 @@
 /// The accumulation buffer: per-pixel sums of samples and their counts, divided only when an image is read.
 /// Sums are double so that millions of samples add without losing the small ones.
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "render/image.h"
@@ -23,6 +24,14 @@ struct Film {
     count.assign(size_t(w) * size_t(h), 0);
   }
   void clear() { reset(width, height); }
+  /// Calls f(std::span<T>) for every per-pixel buffer that adds up over samples, always in the same order. A
+  /// distributed render (src/dist) sums exactly these buffers across processes in one loop, so a buffer added here
+  /// is reduced too.
+  template <class F>
+  void for_each_sum_buffer(F&& f) {
+    f(std::span<double>(sum));
+    f(std::span<uint32_t>(count));
+  }
   void add(size_t pixel, vec3 c) {
     sum[3 * pixel] += c.x;
     sum[3 * pixel + 1] += c.y;
