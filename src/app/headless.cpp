@@ -80,12 +80,12 @@ int run_headless(const AppOptions& options, const Scene& scene, Cluster& cluster
     run.frames = int(frames_after_rounds(round + 1, ranks, frames_total));
     run.spp = run.frames * params.spp_per_frame;
     summed = false;
-    if (options.error_csv.size() && ranks > 1) {
+    if (!options.error_csv.empty() && ranks > 1) {  // the same on every rank (collective): a CSV row per round
       cluster.sum_films(film, total);
       summed = true;
     }
     render_seconds += seconds_since(t0);
-    if (reference) {
+    if (reference && (ranks == 1 || summed)) {
       ImageError e = compare_images((ranks > 1 ? total : film).resolve(), *reference);
       char row[160];
       std::snprintf(row, sizeof row, "%d,%d,%.6f,%.9g,%.9g\n", run.frames, run.spp, render_seconds, e.rmse, e.rel_mse);
