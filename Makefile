@@ -4,7 +4,7 @@ BUILD_TYPE ?= Release
 JOBS ?= $(shell nproc 2>/dev/null || echo 2)
 CMAKE_FLAGS ?=
 
-.PHONY: run test build deps configure clean bench-error bench-throughput sanitize fuzz bench-raycast bench-e2e bench-micro
+.PHONY: run test build deps configure clean bench-error bench-throughput sanitize fuzz bench-raycast bench-e2e bench-micro bench-mpi
 
 deps:
 	@bash scripts/install-deps.sh
@@ -34,6 +34,10 @@ bench-throughput: build
 bench-e2e: build
 	@PTVIEW_WITH_BENCH_DEPS=1 bash scripts/install-deps.sh
 	bash bench/e2e_vs_embree.sh $(BUILD_DIR)
+
+# spp/s of 1 process x 2 threads against 2 MPI ranks x 1 thread, and the cost of one reduction (bench/mpi_scaling.sh).
+bench-mpi: build
+	bash bench/mpi_scaling.sh $(BUILD_DIR)
 
 # Google Benchmark micro benchmarks of the triangle and box tests and the sampling warps.
 bench-micro: build

@@ -2,6 +2,7 @@
 
 #include <cstdio>
 
+#include "dist/cluster.h"
 #include "scene/load.h"
 
 #ifdef PTVIEW_HAS_VIEWER
@@ -11,26 +12,34 @@
 namespace pt {
 
 int run_app(int argc, const char* const* argv) {
+  // Under mpirun every rank runs this; errors are agreed on collectively and only rank 0 prints.
+  std::unique_ptr<Cluster> cluster = join_cluster();
   ParseOutcome parsed = parse_command_line(argc, argv);
+  if (std::string err = cluster->first_error(parsed.options || parsed.exit_code == 0 ? "" : parsed.message);
+      !err.empty())
+    return report_error(*cluster, err);
   if (!parsed.options) {
-    if (parsed.exit_code == 0) std::fputs(parsed.message.c_str(), stdout);
-    else std::fprintf(stderr, "ptview: error: %s\n", parsed.message.c_str());
+    if (cluster->root()) std::fputs(parsed.message.c_str(), stdout);
     return parsed.exit_code;
   }
-  const AppOptions& options = *parsed.options;
+  AppOptions options = *parsed.options;
+  if (options.render.threads == 0) options.render.threads = cluster->default_threads();
+  if (cluster->ranks() > 1 && !options.headless())
+    return report_error(*cluster, "under mpirun ptview renders headless only: add --frames N or --time-limit S");
   Result<Scene> scene = options.scene_path.empty() ? load_builtin_scene(kDefaultSceneName)
                                                    : load_scene(options.scene_path);
+  std::string load_error;
   if (!scene) {
-    std::fprintf(stderr, "ptview: error: %s\n", scene.error().c_str());
-    return 2;
+    load_error = scene.error();
+    // Every rank reads the scene itself; a file only rank 0's machine has is the usual cluster mistake.
+    if (cluster->ranks() > 1) load_error += " (every MPI rank loads the scene: it must exist at this path on every node)";
   }
+  if (std::string err = cluster->first_error(load_error); !err.empty()) return report_error(*cluster, err);
   if (options.camera) {
-    if (std::string e = select_camera(*scene, size_t(*options.camera)); !e.empty()) {
-      std::fprintf(stderr, "ptview: error: --camera: %s\n", e.c_str());
-      return 2;
-    }
+    if (std::string e = select_camera(*scene, size_t(*options.camera)); !e.empty())
+      return report_error(*cluster, "--camera: " + e);
   }
-  if (options.headless()) return run_headless(options, *scene);
+  if (options.headless()) return run_headless(options, *scene, *cluster);
 #ifdef PTVIEW_HAS_VIEWER
   return run_viewer(options.render, options.display, options.viewer, std::move(*scene));
 #else

@@ -4,6 +4,7 @@
 
 #include "app/options.h"
 #include "render/convergence.h"
+#include "dist/cluster.h"
 #include "render/render_scene.h"
 #include "render/stats.h"
 
@@ -13,7 +14,8 @@ namespace pt {
 int run_app(int argc, const char* const* argv);
 
 /// Renders options.frames frames (or until the time limit) without a window, writes outputs; returns exit code.
-int run_headless(const AppOptions& options, const Scene& scene);
+/// With several ranks (src/dist), each renders its share of the frames and rank 0 writes the outputs.
+int run_headless(const AppOptions& options, const Scene& scene, Cluster& cluster);
 
 /// How converged a film is (render/convergence.h, render/adaptive.h), for the stats JSON.
 struct ConvergenceSummary {
@@ -37,6 +39,8 @@ struct RunSummary {
   RenderCounters counters;
   int threads = 1;
   ConvergenceSummary convergence;
+  std::vector<RankWork> per_rank;  ///< spp and seconds of every rank (one entry without MPI)
+  double comm_ms = 0.0;         ///< rank 0's time in MPI calls
 };
 
 /// The stats JSON object (see README): spp, seconds, rays, mrays_per_s, nonfinite_samples, bvh, skipped, ...

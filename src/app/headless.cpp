@@ -1,4 +1,6 @@
 /// The headless path: render frames, report progress on a terminal, write the image, stats and error curve.
+/// One process renders through a ProgressiveFilm (adaptive sampling included); several MPI ranks (src/dist) shard
+/// the sample ranges of every pixel by frame and rank 0 sums their films.
 #include <unistd.h>
 
 #include <algorithm>
@@ -51,42 +53,24 @@ void append_error_row(std::ostringstream& csv, const RunSummary& run, double sec
   csv << row << "\n";
 }
 
-}  // namespace
+/// What a render loop leaves for the outputs.
+struct LoopResult {
+  Film film;  ///< the whole image's film (on rank 0)
+  double render_seconds = 0.0;
+};
 
-int run_headless(const AppOptions& options, const Scene& scene) {
+/// One process: progressive frames through a ProgressiveFilm, ending at --frames, --max-spp, --time-limit, or when
+/// adaptive sampling has stopped every pixel.
+LoopResult render_single(const AppOptions& options, const RenderScene& rs, Renderer& renderer, RunSummary& run,
+                         std::ostringstream& error_csv, const std::optional<Image>& reference) {
   const RenderParams& params = options.render;
-  RenderScene rs = make_render_scene(scene);
-  for (const std::string& w : scene.warnings)
-    std::fprintf(stderr, "ptview: warning: %s\n", Error::one_line(w).c_str());
-
-  std::optional<Image> reference;
-  if (!options.reference.empty()) {
-    Result<Image> ref = load_image(options.reference);
-    if (!ref) {
-      std::fprintf(stderr, "ptview: error: %s\n", ref.error().c_str());
-      return 2;
-    }
-    if (ref->width != params.width || ref->height != params.height) {
-      std::fprintf(stderr, "ptview: error: %s: reference is %dx%d but the render is %dx%d\n",
-                   options.reference.c_str(), ref->width, ref->height, params.width, params.height);
-      return 2;
-    }
-    reference = std::move(*ref);
-  }
-  std::ostringstream error_csv;
-  error_csv << "frame,spp,seconds,rmse,rel_mse,est_rel_mse\n";
-
-  Renderer renderer(params.threads);
   ProgressiveFilm film;
   film.reset(params.width, params.height);
   film.set_adaptive(options.adaptive);
-  RunSummary run;
-  run.threads = renderer.thread_count();
   const bool progress = ::isatty(STDERR_FILENO);
   const int frames_total = options.frames.value_or(0);  // 0: until another limit
   const Clock::time_point start = Clock::now();
   double render_seconds = 0.0;
-  // Ends at --frames, --max-spp, --time-limit, or when adaptive sampling has stopped every pixel.
   while ((frames_total == 0 || film.frames() < frames_total) && !(options.max_spp && film.spp() >= *options.max_spp) &&
          !film.converged()) {
     RenderParams p = params;
@@ -100,12 +84,103 @@ int run_headless(const AppOptions& options, const Scene& scene) {
     if (progress) print_progress(run.frames, frames_total, run.spp, render_seconds, run.counters.rays(), false);
     if (options.time_limit && seconds_since(start) >= *options.time_limit) break;
   }
-  run.seconds = render_seconds;
-  run.convergence = summarize_convergence(film);
   if (progress) print_progress(run.frames, frames_total, run.spp, render_seconds, run.counters.rays(), true);
+  run.convergence = summarize_convergence(film);
+  run.per_rank = {RankWork{run.spp, render_seconds}};
+  return {std::move(film.film()), render_seconds};
+}
+
+/// Several ranks: sample-range sharding (dist/cluster.h). In round k this rank renders global frame k * ranks +
+/// rank; `film` holds this rank's samples, the result all ranks' (on rank 0). Adaptive sampling and --max-spp are
+/// refused before this runs (run_headless).
+LoopResult render_sharded(const AppOptions& options, const RenderScene& rs, Renderer& renderer, RunSummary& run,
+                          std::ostringstream& error_csv, const std::optional<Image>& reference, Cluster& cluster) {
+  const RenderParams& params = options.render;
+  const int ranks = cluster.ranks();
+  Film film(params.width, params.height), total;
+  RankWork mine;
+  const bool progress = ::isatty(STDERR_FILENO) && cluster.root();
+  const int frames_total = options.frames.value_or(0);  // 0: until the time limit
+  const Clock::time_point start = Clock::now();
+  double render_seconds = 0.0;  // rank 0: rendering and combining the ranks' films
+  bool summed = false;          // `total` holds the current round
+  for (int round = 0; frames_total == 0 || int64_t(round) * ranks < frames_total; ++round) {
+    Clock::time_point t0 = Clock::now();
+    const int64_t frame = shard_frame(round, cluster.rank(), ranks);
+    if (frames_total == 0 || frame < frames_total) {
+      renderer.render_frame(rs, params, film, uint32_t(frame), run.counters);
+      mine.spp += params.spp_per_frame;
+      mine.seconds += seconds_since(t0);
+    }
+    run.frames = int(frames_after_rounds(round + 1, ranks, frames_total));
+    run.spp = run.frames * params.spp_per_frame;
+    summed = false;
+    if (!options.error_csv.empty()) {  // the same on every rank (collective): a CSV row per round
+      cluster.sum_films(film, total);
+      summed = true;
+    }
+    render_seconds += seconds_since(t0);
+    if (summed && cluster.root()) append_error_row(error_csv, run, render_seconds, total, reference);
+    if (progress) print_progress(run.frames, frames_total, run.spp, render_seconds, run.counters.rays(), false);
+    if (options.time_limit && cluster.any(seconds_since(start) >= *options.time_limit)) break;
+  }
+  Clock::time_point t0 = Clock::now();
+  if (!summed) cluster.sum_films(film, total);
+  run.counters = cluster.sum_counters(run.counters);
+  render_seconds += seconds_since(t0);
+  run.per_rank = cluster.gather_work(mine);
+  if (progress) print_progress(run.frames, frames_total, run.spp, render_seconds, run.counters.rays(), true);
+  return {std::move(total), render_seconds};
+}
+
+}  // namespace
+
+int run_headless(const AppOptions& options, const Scene& scene, Cluster& cluster) {
+  const RenderParams& params = options.render;
+  if (cluster.ranks() > 1 && (options.adaptive.enabled() || options.max_spp))
+    return report_error(cluster, "--noise-threshold and --max-spp are not supported under mpirun yet: use --frames "
+                                 "or --time-limit");
+  RenderScene rs = make_render_scene(scene);
+  for (const std::string& w : cluster.root() ? scene.warnings : std::vector<std::string>{})
+    std::fprintf(stderr, "ptview: warning: %s\n", Error::one_line(w).c_str());
+
+  std::optional<Image> reference;
+  std::string reference_error;  // only rank 0 reads the reference
+  if (!options.reference.empty() && cluster.root()) {
+    Result<Image> ref = load_image(options.reference);
+    if (!ref) {
+      reference_error = ref.error();
+    } else if (ref->width != params.width || ref->height != params.height) {
+      reference_error = options.reference + ": reference is " + std::to_string(ref->width) + "x" +
+                        std::to_string(ref->height) + " but the render is " + std::to_string(params.width) + "x" +
+                        std::to_string(params.height);
+    } else {
+      reference = std::move(*ref);
+    }
+  }
+  if (std::string err = cluster.first_error(reference_error); !err.empty()) return report_error(cluster, err);
+  std::ostringstream error_csv;
+  error_csv << "frame,spp,seconds,rmse,rel_mse,est_rel_mse\n";
+
+  Renderer renderer(params.threads);
+  RunSummary run;
+  run.threads = renderer.thread_count();
+  LoopResult result = cluster.ranks() > 1
+                          ? render_sharded(options, rs, renderer, run, error_csv, reference, cluster)
+                          : render_single(options, rs, renderer, run, error_csv, reference);
+  run.seconds = result.render_seconds;
+  run.comm_ms = cluster.comm_ms();
+  if (!cluster.root()) return 0;  // rank 0 writes every output
+  const Film& film = result.film;
+  if (cluster.ranks() > 1) {
+    ProgressiveFilm summary;  // the convergence figures of the combined film (adaptive sampling is off here)
+    summary.reset(film.width, film.height);
+    summary.film() = film;
+    run.convergence = summarize_convergence(summary);
+  }
 
   int code = 0;
-  if (auto err = save_image(options.out, film.film().resolve(), options.display)) {
+  if (auto err = save_image(options.out, film.resolve(), options.display)) {
     std::fprintf(stderr, "ptview: error: %s\n", err->message.c_str());
     code = 2;
   } else if (!options.out_given) {
@@ -113,7 +188,7 @@ int run_headless(const AppOptions& options, const Scene& scene) {
   }
   for (auto [path, map] : {std::pair{&options.error_map, &rel_error_image}, std::pair{&options.spp_map, &spp_image}}) {
     if (path->empty()) continue;
-    if (auto err = save_image(*path, map(film.film()))) {
+    if (auto err = save_image(*path, map(film))) {
       std::fprintf(stderr, "ptview: error: %s\n", err->message.c_str());
       code = 2;
     }

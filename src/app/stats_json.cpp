@@ -32,7 +32,11 @@ std::string make_stats_json(const AppOptions& options, const Scene& scene, const
   j["mrays_per_s"] = run.seconds > 0 ? rays / run.seconds * 1e-6 : 0.0;
   j["samples"] = c.samples;
   j["nonfinite_samples"] = c.nonfinite_samples;
-  j["threads"] = run.threads;
+  j["threads"] = run.threads;  // per rank
+  j["ranks"] = run.per_rank.size();
+  j["per_rank"] = nlohmann::json::array();
+  for (const RankWork& w : run.per_rank) j["per_rank"].push_back({{"spp", w.spp}, {"seconds", w.seconds}});
+  j["comm_ms"] = run.comm_ms;
   j["integrator"] = integrator_name(options.render.integrator);
   j["light_sampling"] = options.render.light_sampling == LightSampling::area ? "area" : "solid-angle";
   j["sampler"] = options.render.sampler == SamplerKind::sobol ? "sobol" : "independent";

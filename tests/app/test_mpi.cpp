@@ -1,0 +1,221 @@
+// ptview under mpirun (src/dist): K ranks give the image of one process, the time limit holds across ranks, and
+// failures end the run with one line, a non-zero exit and no output. Skipped when the build has no MPI.
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <map>
+#include <sstream>
+
+#include "render/image.h"
+#include "run_exe.h"
+
+namespace pt {
+namespace {
+
+using test::count_lines;
+using test::read_file;
+using test::run_ptview;
+using test::shell_quote;
+using test::TempDir;
+
+#ifdef PTVIEW_MPIEXEC
+constexpr bool kHaveMpi = true;
+const char* const kMpiexec = PTVIEW_MPIEXEC;
+#else
+constexpr bool kHaveMpi = false;
+const char* const kMpiexec = "";
+#endif
+
+#define SKIP_WITHOUT_MPI() \
+  if (!kHaveMpi) GTEST_SKIP() << "built without MPI (PTVIEW_MPI=OFF)"
+
+/// One application context of an mpirun command line: `ranks` processes of `prefix` ptview `args`.
+struct Context {
+  int ranks = 1;
+  std::vector<std::string> args;
+  std::string wdir = {};    ///< working directory of these ranks (empty: the current one)
+  std::string prefix = {};  ///< a command run in front of ptview, e.g. "timeout -s KILL 2"
+};
+
+/// Runs `mpirun -q` (no notices of its own: stderr holds what ptview prints) with the given contexts. As root Open
+/// MPI needs the ALLOW_RUN_AS_ROOT pair; in containers the vader single-copy mechanism may be unavailable. Under
+/// AddressSanitizer, Open MPI's own allocations (in dlopen'ed, since unloaded plugins LeakSanitizer cannot
+/// attribute) are not reported; our leaks are checked by every other test.
+test::RunResult run_mpi(const std::vector<Context>& contexts, int timeout_s = 300) {
+  TempDir io;
+  std::string cmd = "env OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 "
+                    "OMPI_MCA_btl_vader_single_copy_mechanism=none ASAN_OPTIONS=detect_leaks=0 timeout " +
+                    std::to_string(timeout_s) + " " + shell_quote(kMpiexec) + " -q --oversubscribe --bind-to none";
+  for (size_t i = 0; i < contexts.size(); ++i) {
+    const Context& c = contexts[i];
+    if (i > 0) cmd += " :";
+    cmd += " -np " + std::to_string(c.ranks);
+    if (!c.wdir.empty()) cmd += " -wdir " + shell_quote(c.wdir);
+    cmd += " " + c.prefix + " " + shell_quote(PTVIEW_EXE);
+    for (const std::string& a : c.args) cmd += " " + shell_quote(a);
+  }
+  cmd += " >" + shell_quote(io / "out") + " 2>" + shell_quote(io / "err") + " </dev/null";
+  int status = std::system(cmd.c_str());
+  test::RunResult r;
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  r.out = read_file(io / "out");
+  r.err = read_file(io / "err");
+  return r;
+}
+
+test::RunResult run_mpi(int ranks, const std::vector<std::string>& args) { return run_mpi({Context{ranks, args}}); }
+
+/// Largest per-pixel relative difference (channels of the linear mean).
+double max_relative_difference(const Image& a, const Image& b) {
+  double worst = 0.0;
+  for (size_t i = 0; i < a.rgb.size(); ++i) {
+    double x = a.rgb[i], y = b.rgb[i];
+    if (x == y) continue;
+    worst = std::max(worst, std::abs(x - y) / std::max(std::abs(x), std::abs(y)));
+  }
+  return worst;
+}
+
+bool no_files_in(const std::filesystem::path& dir) { return std::filesystem::is_empty(dir); }
+
+// The contract: K ranks render disjoint sample ranges whose sum is the single-process film. A rank that rendered
+// the wrong frames (another rank's samples, or frame = round) changes the image far beyond 1e-6.
+TEST(Mpi, OneTwoThreeRanksGiveTheImageOfOneProcess) {
+  SKIP_WITHOUT_MPI();
+  TempDir dir;
+  const std::vector<std::string> common = {"builtin:cornell-glass", "--frames", "5", "--spp-per-frame", "2",
+                                           "--size", "40x30", "--threads", "1", "--sampler", "independent"};
+  auto with = [&](std::vector<std::string> extra) {
+    std::vector<std::string> a = common;
+    a.insert(a.end(), extra.begin(), extra.end());
+    return a;
+  };
+  auto one = run_ptview(with({"--out", dir / "one.pfm", "--stats-json", dir / "one.json"}));
+  ASSERT_EQ(one.exit_code, 0) << one.err;
+  Result<Image> ref = load_image(dir / "one.pfm");
+  ASSERT_TRUE(ref.ok()) << ref.error();
+  auto one_stats = nlohmann::json::parse(read_file(dir / "one.json"));
+  EXPECT_EQ(one_stats["ranks"], 1);
+  EXPECT_EQ(one_stats["comm_ms"], 0.0);
+  for (int k : {1, 2, 3}) {
+    std::string out = dir / ("k" + std::to_string(k) + ".pfm"), stats = dir / ("k" + std::to_string(k) + ".json");
+    auto r = run_mpi(k, with({"--out", out, "--stats-json", stats}));
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_TRUE(r.err.empty()) << r.err;
+    Result<Image> img = load_image(out);
+    ASSERT_TRUE(img.ok()) << img.error();
+    ASSERT_EQ(img->rgb.size(), ref->rgb.size());
+    EXPECT_LE(max_relative_difference(*img, *ref), 1e-6) << k << " ranks";
+    auto j = nlohmann::json::parse(read_file(stats));
+    EXPECT_EQ(j["ranks"], k);
+    EXPECT_EQ(j["spp"], 10);
+    EXPECT_EQ(j["samples"], one_stats["samples"]);  // counters of every rank summed, no sample twice
+    EXPECT_EQ(j["rays"], one_stats["rays"]);
+    ASSERT_EQ(j["per_rank"].size(), size_t(k));
+    int spp = 0;
+    for (const auto& w : j["per_rank"]) spp += w["spp"].get<int>();
+    EXPECT_EQ(spp, 10);
+    if (k == 3) {  // frames 0,3 | 1,4 | 2 at 2 spp each
+      EXPECT_EQ(j["per_rank"][0]["spp"], 4);
+      EXPECT_EQ(j["per_rank"][2]["spp"], 2);
+    }
+  }
+}
+
+// CSV rows at every round (K frames) and at the end, with the error of the combined image, which is the
+// single-process error at the same frame.
+TEST(Mpi, ErrorCsvRowsAtRoundBoundariesMatchOneProcess) {
+  SKIP_WITHOUT_MPI();
+  TempDir dir;
+  ASSERT_EQ(run_ptview({"--frames", "4", "--size", "24x24", "--out", dir / "ref.pfm"}).exit_code, 0);
+  std::vector<std::string> args = {"--frames", "7", "--size", "24x24", "--threads", "1", "--reference",
+                                   dir / "ref.pfm", "--out", dir / "x.pfm"};
+  auto with_csv = [&](const std::string& csv) {
+    std::vector<std::string> a = args;
+    a.insert(a.end(), {"--error-csv", csv});
+    return a;
+  };
+  ASSERT_EQ(run_ptview(with_csv(dir / "one.csv")).exit_code, 0);
+  auto r = run_mpi(3, with_csv(dir / "three.csv"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  auto rows = [](const std::string& csv) {
+    std::map<int, double> rmse;  // frame -> rmse
+    std::istringstream in(csv);
+    std::string line;
+    std::getline(in, line);
+    while (std::getline(in, line)) {
+      int frame = std::stoi(line.substr(0, line.find(',')));
+      rmse[frame] = std::stod(line.substr(line.find(',', line.find(',', line.find(',') + 1) + 1) + 1));
+    }
+    return rmse;
+  };
+  auto one = rows(read_file(dir / "one.csv")), three = rows(read_file(dir / "three.csv"));
+  ASSERT_EQ(three.size(), 3u);
+  for (int frame : {3, 6, 7}) {
+    ASSERT_TRUE(three.count(frame)) << "no row at frame " << frame;
+    EXPECT_NEAR(three[frame], one[frame], 1e-6 * one[frame]) << frame;
+  }
+}
+
+// The ranks agree on stopping (MPI_Allreduce every round): each renders the same number of frames, and the total
+// is their sum. Any duration passes: only the agreement is checked.
+TEST(Mpi, TimeLimitStopsEveryRankInTheSameRound) {
+  SKIP_WITHOUT_MPI();
+  TempDir dir;
+  auto r = run_mpi(2, {"--time-limit", "0.3", "--size", "32x32", "--threads", "1", "--out", dir / "t.pfm",
+                       "--stats-json", dir / "t.json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  ASSERT_TRUE(load_image(dir / "t.pfm").ok());
+  auto j = nlohmann::json::parse(read_file(dir / "t.json"));
+  ASSERT_EQ(j["per_rank"].size(), 2u);
+  int a = j["per_rank"][0]["spp"], b = j["per_rank"][1]["spp"];
+  EXPECT_GE(a, 1);
+  EXPECT_EQ(a, b);
+  EXPECT_EQ(j["spp"], a + b);
+}
+
+// A scene that only rank 0's machine has (here: a relative path, rank 1 runs in another directory).
+TEST(Mpi, SceneMissingOnAnotherRankIsOneClearLine) {
+  SKIP_WITHOUT_MPI();
+  TempDir a, b, out;
+  std::filesystem::copy_file(std::string(PTVIEW_SOURCE_DIR) + "/assets/cornell.json", a / "s.json");
+  std::vector<std::string> args = {"s.json", "--frames", "2", "--size", "16x16", "--out", out / "x.png"};
+  auto r = run_mpi({Context{1, args, a.path.string()}, Context{1, args, b.path.string()}});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(count_lines(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("rank 1 on "), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("s.json"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("every node"), std::string::npos) << r.err;
+  EXPECT_TRUE(no_files_in(out.path));
+}
+
+TEST(Mpi, BadInputIsOneLineFromRankZero) {
+  SKIP_WITHOUT_MPI();
+  TempDir out;
+  for (const auto& args : std::vector<std::vector<std::string>>{
+           {"--frames", "0", "--out", out / "x.png"},
+           {"no-such-scene.json", "--frames", "1", "--out", out / "x.png"},
+           {"--size", "8x8", "--out", out / "x.png"}}) {  // no --frames: the viewer is not distributed
+    auto r = run_mpi(3, args);
+    EXPECT_EQ(r.exit_code, 2) << args[0];
+    EXPECT_EQ(count_lines(r.err), 1) << r.err;
+    EXPECT_TRUE(no_files_in(out.path));
+  }
+}
+
+// Rank 1 is killed while the ranks render: mpirun stops rank 0, which has written nothing (outputs are written
+// after the last reduction, atomically). If rank 1 dies earlier (a slow machine), the outcome is the same.
+TEST(Mpi, RankThatDiesEndsTheRunWithoutOutput) {
+  SKIP_WITHOUT_MPI();
+  TempDir out;
+  std::vector<std::string> args = {"--frames", "1000000", "--size", "16x16", "--threads", "1", "--out",
+                                   out / "x.pfm", "--stats-json", out / "s.json"};
+  auto r = run_mpi({Context{1, args}, Context{1, args, "", "timeout -s KILL 2"}});
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_LE(count_lines(r.err), 1) << r.err;
+  EXPECT_TRUE(no_files_in(out.path));
+}
+
+}  // namespace
+}  // namespace pt
