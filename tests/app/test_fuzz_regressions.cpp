@@ -52,46 +52,69 @@ void expect_valid_scene(Scene scene, const std::string& name) {
   for (size_t i = 0; i < film.count.size(); ++i) ASSERT_TRUE(is_finite(film.mean(i))) << name;
 }
 
+/// Runs one input through the harness of fuzz target `target` (fuzz_json, fuzz_obj, fuzz_cli): it loads (and then
+/// is a valid scene) or gives exactly one error line. Returns whether it loaded.
+bool check_input(const std::string& target, const std::string& name, const std::string& text,
+                 const test::TempDir& dir) {
+  if (target == "fuzz_json") {
+    Result<Scene> r = parse_json_scene(text, dir / "fuzz.json");
+    if (!r.ok()) {
+      EXPECT_TRUE(one_line(r.error())) << name << ": " << r.error();
+      return false;
+    }
+    expect_valid_scene(std::move(*r), name);
+    return true;
+  }
+  if (target == "fuzz_obj") {
+    size_t split = text.find("\nnewmtl");
+    std::ofstream(dir / "m.obj", std::ios::binary) << "mtllib m.mtl\n" << text.substr(0, split);
+    std::ofstream(dir / "m.mtl", std::ios::binary) << (split == std::string::npos ? "" : text.substr(split));
+    Result<Scene> r = load_scene(dir / "m.obj");
+    if (!r.ok()) {
+      EXPECT_TRUE(one_line(r.error())) << name << ": " << r.error();
+      return false;
+    }
+    expect_valid_scene(std::move(*r), name);
+    return true;
+  }
+  if (target == "fuzz_cli") {
+    std::vector<std::string> args = fuzz::split_args(text.data(), text.size());
+    std::vector<const char*> argv;
+    for (const std::string& a : args) argv.push_back(a.c_str());
+    ParseOutcome out = parse_command_line(int(argv.size()), argv.data());
+    EXPECT_TRUE(out.options || out.exit_code == 0 || out.exit_code == 2) << name;
+    return out.options.has_value();
+  }
+  ADD_FAILURE() << name << ": no harness for fuzz target " << target;
+  return false;
+}
+
 TEST(FuzzRegressions, EveryKeptCrashIsHandled) {
   test::TempDir dir;
-  int n = 0, loaded = 0;
+  int n = 0;
   for (auto& e : fs::directory_iterator(fs::path(PTVIEW_TEST_DATA) / "bad")) {
     std::string name = e.path().filename().string();
     if (name.rfind("fuzz-", 0) != 0) continue;
     ++n;
-    std::string text = test::read_file(e.path());
-    if (name.rfind("fuzz-fuzz_json", 0) == 0) {
-      Result<Scene> r = parse_json_scene(text, dir / "fuzz.json");
-      if (!r.ok()) {
-        EXPECT_TRUE(one_line(r.error())) << name << ": " << r.error();
-      } else {
-        ++loaded;
-        expect_valid_scene(std::move(*r), name);
-      }
-    } else if (name.rfind("fuzz-fuzz_obj", 0) == 0) {
-      size_t split = text.find("\nnewmtl");
-      std::ofstream(dir / "m.obj", std::ios::binary) << "mtllib m.mtl\n" << text.substr(0, split);
-      std::ofstream(dir / "m.mtl", std::ios::binary) << (split == std::string::npos ? "" : text.substr(split));
-      Result<Scene> r = load_scene(dir / "m.obj");
-      if (!r.ok()) {
-        EXPECT_TRUE(one_line(r.error())) << name << ": " << r.error();
-      } else {
-        ++loaded;
-        expect_valid_scene(std::move(*r), name);
-      }
-    } else if (name.rfind("fuzz-fuzz_cli", 0) == 0) {
-      std::vector<std::string> args = fuzz::split_args(text.data(), text.size());
-      std::vector<const char*> argv;
-      for (const std::string& a : args) argv.push_back(a.c_str());
-      ParseOutcome out = parse_command_line(int(argv.size()), argv.data());
-      EXPECT_TRUE(out.options || out.exit_code == 0 || out.exit_code == 2) << name;
-    } else {
-      ADD_FAILURE() << name << ": no harness for this fuzz target";
-    }
+    std::string target = name.substr(5, name.find('-', 5) - 5);  // fuzz-<target>-crash-<hash>
+    check_input(target, name, test::read_file(e.path()), dir);
   }
-  // The corpus is in the repository: finding nothing means the directory or the name pattern is wrong.
+  // The inputs are in the repository: finding none means the directory or the name pattern is wrong.
   ASSERT_GE(n, 2) << "no fuzz regression inputs found in " << PTVIEW_TEST_DATA << "/bad";
-  std::cout << n << " fuzz regression inputs, " << loaded << " of them load\n";
+}
+
+TEST(FuzzRegressions, SeedCorpusLoadsThroughTheSameHarness) {
+  // The seeds the fuzzers start from mostly load, so the harness's "loaded" branch (expect_valid_scene) is
+  // exercised even while every kept crash is an error.
+  test::TempDir dir;
+  int n = 0, loaded = 0;
+  for (const char* kind : {"json", "obj", "cli"})
+    for (auto& e : fs::directory_iterator(fs::path(PTVIEW_SOURCE_DIR) / "fuzz" / "corpus" / kind)) {
+      ++n;
+      loaded += check_input(std::string("fuzz_") + kind, e.path().string(), test::read_file(e.path()), dir);
+    }
+  ASSERT_GE(n, 10) << "seed corpus not found";
+  EXPECT_GE(loaded, 8) << "of " << n;
 }
 
 }  // namespace
