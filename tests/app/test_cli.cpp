@@ -1,4 +1,5 @@
 // The command-line contract, checked on the real executable: exit codes, one-line errors, outputs, determinism.
+// Output values (PFM layout, error CSV, stats JSON, options) are checked in test_cli_contract.cpp.
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -23,25 +24,6 @@ TEST(Cli, RendersTheBuiltInSceneToPng) {
   EXPECT_TRUE(r.err.empty()) << r.err;  // quiet when stderr is not a terminal
 }
 
-TEST(Cli, PfmIsTheLinearMeanWithTheRightLayout) {
-  TempDir dir;
-  auto r = run_ptview({"--frames", "1", "--size", "33x17", "--out", dir / "x.pfm", "--exposure", "3"});
-  ASSERT_EQ(r.exit_code, 0) << r.err;
-  std::string pfm = read_file(dir / "x.pfm");
-  ASSERT_EQ(pfm.rfind("PF\n33 17\n-1.0\n", 0), 0u);
-  EXPECT_EQ(pfm.size(), std::string("PF\n33 17\n-1.0\n").size() + 33 * 17 * 12);
-  Result<Image> img = load_image(dir / "x.pfm");
-  ASSERT_TRUE(img.ok()) << img.error();
-  // The default scene's light is in the top middle of the frame: bright there; the image must not be flipped.
-  float top = 0, bottom = 0;
-  for (int x = 0; x < 33; ++x) {
-    top += luminance(img->at(x, 0));
-    bottom += luminance(img->at(x, 16));
-  }
-  EXPECT_GT(top, 0.0f);
-  EXPECT_GT(bottom, 0.0f);
-}
-
 TEST(Cli, ThreadCountGivesIdenticalBytes) {
   TempDir dir;
   for (const char* threads : {"1", "2", "3"}) {
@@ -62,40 +44,6 @@ TEST(Cli, ExrOutputRoundTrips) {
   Result<Image> pfm = load_image(dir / "a.pfm");
   ASSERT_TRUE(exr.ok() && pfm.ok());
   EXPECT_EQ(exr->rgb, pfm->rgb);
-}
-
-TEST(Cli, StatsJsonHasTheContractKeys) {
-  TempDir dir;
-  auto r = run_ptview({"--frames", "3", "--size", "32x32", "--out", dir / "x.png", "--stats-json", dir / "s.json"});
-  ASSERT_EQ(r.exit_code, 0) << r.err;
-  auto j = nlohmann::json::parse(read_file(dir / "s.json"));
-  for (const char* key : {"spp", "seconds", "rays", "mrays_per_s", "nonfinite_samples", "bvh", "skipped"})
-    EXPECT_TRUE(j.contains(key)) << key;
-  for (const char* key : {"build_ms", "nodes", "sah_cost"}) EXPECT_TRUE(j["bvh"].contains(key)) << key;
-  EXPECT_EQ(j["spp"], 3);
-  EXPECT_GT(j["rays"].get<double>(), 32.0 * 32 * 3);
-  EXPECT_GT(j["bvh"]["nodes"].get<int>(), 0);
-  EXPECT_TRUE(j["skipped"].is_object());
-  EXPECT_GT(j["skipped"]["light_sampling_specular"].get<double>(), 0);  // glass and mirror spheres
-}
-
-TEST(Cli, ErrorCsvAgainstAReference) {
-  TempDir dir;
-  ASSERT_EQ(run_ptview({"--frames", "8", "--size", "24x24", "--seed", "5", "--out", dir / "ref.pfm"}).exit_code, 0);
-  auto r = run_ptview({"--frames", "4", "--size", "24x24", "--out", dir / "x.pfm", "--reference", dir / "ref.pfm",
-                       "--error-csv", dir / "e.csv"});
-  ASSERT_EQ(r.exit_code, 0) << r.err;
-  std::string csv = read_file(dir / "e.csv");
-  EXPECT_EQ(csv.rfind("frame,spp,seconds,rmse,rel_mse,est_rel_mse\n", 0), 0u);
-  EXPECT_EQ(count_lines(csv), 5);
-  // Against itself the error is zero.
-  r = run_ptview({"--frames", "8", "--size", "24x24", "--seed", "5", "--out", dir / "y.pfm", "--reference",
-                  dir / "ref.pfm", "--error-csv", dir / "self.csv"});
-  ASSERT_EQ(r.exit_code, 0) << r.err;
-  std::string self = read_file(dir / "self.csv");
-  std::string last = self.substr(self.rfind('\n', self.size() - 2) + 1);
-  EXPECT_EQ(last.rfind("8,8,", 0), 0u) << last;
-  EXPECT_NE(last.find(",0,0"), std::string::npos) << last;
 }
 
 TEST(Cli, TimeLimitStopsTheRun) {

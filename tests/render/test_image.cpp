@@ -501,15 +501,36 @@ TEST_F(ImageFiles, FailedWritesLeaveNoFilesBehind) {
 }
 
 TEST_F(ImageFiles, ReadOnlyDirectoryFailsWithoutTempFiles) {
-  if (::geteuid() == 0) GTEST_SKIP() << "root ignores directory permissions";
-  write_bytes(path("keep.pfm"), "old");
-  fs::permissions(dir_, fs::perms::owner_read | fs::perms::owner_exec);
-  const std::optional<pt::Error> err = pt::save_image(path("keep.pfm"), Image(2, 2));
-  fs::permissions(dir_, fs::perms::owner_all);
+  // Failures that happen for root too (CI runs as root, which ignores directory permissions).
+  // 1. The parent "directory" is a regular file: the temporary file cannot even be created.
+  write_bytes(path("plain"), "x");
+  std::optional<pt::Error> err = pt::save_image(path("plain") + "/keep.pfm", Image(2, 2));
   ASSERT_TRUE(err.has_value());
-  EXPECT_TRUE(contains(err->message, "Permission denied")) << err->message;
-  EXPECT_EQ(read_bytes(path("keep.pfm")), "old");
-  EXPECT_EQ(listing(), std::vector<std::string>{"keep.pfm"});
+  EXPECT_TRUE(contains(err->message, "plain/keep.pfm")) << err->message;
+  EXPECT_EQ(read_bytes(path("plain")), "x");
+  // 2. The target is a non-empty directory: the temporary file is written, the rename fails, and the temporary
+  //    file must be removed, leaving the directory as it was.
+  fs::create_directories(dir_ / "taken.pfm");
+  write_bytes(path("taken.pfm/inside"), "y");
+  for (const char* ext : {"pfm", "png", "exr"}) {
+    fs::create_directories(dir_ / (std::string("taken.") + ext));
+    err = pt::save_image(path(std::string("taken.") + ext), Image(2, 2));
+    ASSERT_TRUE(err.has_value()) << ext;
+    EXPECT_TRUE(contains(err->message, std::string("taken.") + ext)) << err->message;
+  }
+  EXPECT_EQ(read_bytes(path("taken.pfm/inside")), "y");
+  EXPECT_EQ(listing(), (std::vector<std::string>{"plain", "taken.exr", "taken.pfm", "taken.png"}));
+  // 3. As a non-root user, also a read-only directory.
+  if (::geteuid() != 0) {
+    fs::create_directories(dir_ / "ro");
+    write_bytes(path("ro/keep.pfm"), "old");
+    fs::permissions(dir_ / "ro", fs::perms::owner_read | fs::perms::owner_exec);
+    err = pt::save_image(path("ro/keep.pfm"), Image(2, 2));
+    fs::permissions(dir_ / "ro", fs::perms::owner_all);
+    ASSERT_TRUE(err.has_value());
+    EXPECT_TRUE(contains(err->message, "Permission denied")) << err->message;
+    EXPECT_EQ(read_bytes(path("ro/keep.pfm")), "old");
+  }
 }
 
 TEST_F(ImageFiles, ConcurrentWritersNeverExposeAPartialFile) {
