@@ -26,6 +26,7 @@ bench-error: build
 	@PTVIEW_WITH_BENCH_DEPS=1 bash scripts/install-deps.sh
 	./$(BUILD_DIR)/bench/bench_time_vs_error --size 128 --max-spp 64 --ref-spp 1024 --csv $(BUILD_DIR)/time_vs_error.csv
 	/usr/bin/python3 bench/plot_time_vs_error.py $(BUILD_DIR)/time_vs_error.csv docs/img
+	/usr/bin/python3 bench/plot_convergence.py $(BUILD_DIR)/time_vs_error docs/img
 
 bench-throughput: build
 	./$(BUILD_DIR)/bench/bench_render_throughput --csv $(BUILD_DIR)/render_throughput.csv

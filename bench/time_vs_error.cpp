@@ -106,16 +106,16 @@ PlaneScene make_plane_scene() {
 }
 
 
-/// The exact image, box-filtered by averaging the closed form over a 16 x 16 grid of positions in each pixel.
-Image exact_plane_image(const PlaneScene& ps, int size) {
+/// The exact image, box-filtered by averaging the closed form over a grid x grid set of positions in each pixel.
+Image exact_plane_image(const PlaneScene& ps, int size, int grid = 16) {
   Image img(size, size);
   CameraRig rig = make_camera_rig(*ps.scene.camera, size, size);
   for (int y = 0; y < size; ++y)
     for (int x = 0; x < size; ++x) {
       double sum = 0.0;
-      for (int sy = 0; sy < 16; ++sy)
-        for (int sx = 0; sx < 16; ++sx) {
-          Ray r = generate_camera_ray(rig, x, y, vec2((sx + 0.5f) / 16, (sy + 0.5f) / 16));
+      for (int sy = 0; sy < grid; ++sy)
+        for (int sx = 0; sx < grid; ++sx) {
+          Ray r = generate_camera_ray(rig, x, y, vec2((sx + 0.5f) / grid, (sy + 0.5f) / grid));
           dvec3 o(r.org), d(r.dir);
           // The light (plane y = 0.8, seen from above: its back, black) hides the floor behind it.
           double tl = (0.8 - o.y) / d.y;
@@ -127,7 +127,7 @@ Image exact_plane_image(const PlaneScene& ps, int size) {
           if (std::abs(p.x) > 20 || std::abs(p.z) > 20) continue;
           sum += ps.albedo / M_PI * polygon_irradiance(ps.light, p, dvec3(0, 1, 0), ps.radiance);
         }
-      float v = float(sum / 256.0);
+      float v = float(sum / double(grid * grid));
       img.set(x, y, vec3(v));
     }
   return img;
@@ -274,7 +274,7 @@ int main(int argc, char** argv) {
   std::string only;
   // Convergence sections: "estimator", "adaptive", "both", "only" (both, skipping the strategy curves) or "none".
   std::string convergence = "both";
-  int conv_size = 64, conv_ref_spp = 8192;
+  int conv_size = 32, conv_ref_spp = 4096;
   for (int i = 1; i + 1 < argc; i += 2) {
     if (!std::strcmp(argv[i], "--size")) size = std::atoi(argv[i + 1]);
     else if (!std::strcmp(argv[i], "--max-spp")) max_spp = std::atoi(argv[i + 1]);
@@ -366,7 +366,7 @@ int main(int argc, char** argv) {
     owned.push_back(std::make_unique<RenderScene>(make_render_scene(scene)));
     conv_scenes.emplace_back(name, owned.back().get());
     refs.emplace_back(name, name == "rect-light-over-plane"
-                                ? exact_plane_image(plane, conv_size)
+                                ? exact_plane_image(plane, conv_size, 128)  // fine enough for 256 spp Sobol
                                 : cached_reference(cache, name, *owned.back(), conv_size, conv_ref_spp, renderer));
   }
   if (convergence != "adaptive")

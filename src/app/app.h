@@ -1,5 +1,6 @@
 #pragma once
 /// Entry points of the program: parse, load, then run headless or open the viewer.
+#include <limits>
 #include <nlohmann/json_fwd.hpp>
 
 #include "app/options.h"
@@ -19,7 +20,7 @@ int run_headless(const AppOptions& options, const Scene& scene, Cluster& cluster
 
 /// How converged a film is (render/convergence.h, render/adaptive.h), for the stats JSON.
 struct ConvergenceSummary {
-  double est_rel_mse = 0.0;         ///< NaN when unknown (written as null)
+  double est_rel_mse = std::numeric_limits<double>::quiet_NaN();  ///< NaN when unknown (written as null)
   double converged_fraction = 0.0;
   SppSummary spp;
   double noise_threshold = 0.0;     ///< 0: adaptive sampling off

@@ -9,7 +9,7 @@ namespace pt {
 
 int auto_min_spp(double t) {
   int m = std::max(4, int(std::ceil(16.0 / std::pow(t, 0.3))));
-  return (m + 3) / 4 * 4;
+  return (m + 1) / 2 * 2;
 }
 
 int effective_min_spp(const AdaptiveParams& p) { return p.min_spp > 0 ? p.min_spp : auto_min_spp(p.noise_threshold); }

@@ -26,7 +26,7 @@ struct AdaptiveParams {
 inline constexpr int kAdaptiveCheckInterval = 16;
 
 /// Cycles' automatic minimum: ceil(16 / T^0.3), at least 4 (T = 0.1 -> 32, 0.01 -> 64, 0.001 -> 128), rounded up
-/// to a multiple of 4 so that both halves of the estimator hold samples.
+/// to an even number so that both halves of the estimator hold as many samples.
 int auto_min_spp(double noise_threshold);
 int effective_min_spp(const AdaptiveParams& params);
 

@@ -6,19 +6,28 @@
 
 namespace pt {
 
-bool pixel_mean_variance(const Film& film, size_t p, dvec3& mean, dvec3& var_mean) {
+bool pixel_estimate(const Film& film, size_t p, PixelEstimate& e) {
   const double n = film.count[p], na = film.half_count[p], nb = n - na;
+  const dvec3 s(film.sum[3 * p], film.sum[3 * p + 1], film.sum[3 * p + 2]);
+  e.mean = n > 0 ? s / n : dvec3(0.0);
   if (na == 0 || nb == 0) {
-    mean = n > 0 ? dvec3(film.sum[3 * p], film.sum[3 * p + 1], film.sum[3 * p + 2]) / n : dvec3(0.0);
-    var_mean = dvec3(0.0);
+    e.var_mean = dvec3(0.0);
+    e.scale = e.mean;
     return false;
   }
-  const dvec3 s(film.sum[3 * p], film.sum[3 * p + 1], film.sum[3 * p + 2]);
   const dvec3 sa(film.half_sum[3 * p], film.half_sum[3 * p + 1], film.half_sum[3 * p + 2]);
   const dvec3 a = sa / na, b = (s - sa) / nb, d = a - b;
-  mean = s / n;
-  var_mean = d * d * (na * nb / (n * n));
+  e.var_mean = d * d * (na * nb / (n * n));
+  e.scale = glm::min(a, b);
   return true;
+}
+
+bool pixel_mean_variance(const Film& film, size_t p, dvec3& mean, dvec3& var_mean) {
+  PixelEstimate e;
+  bool known = pixel_estimate(film, p, e);
+  mean = e.mean;
+  var_mean = e.var_mean;
+  return known;
 }
 
 namespace {
@@ -30,7 +39,7 @@ double pixel_rel_error(const Film& film, size_t p) {
   if (na == 0 || nb == 0) return std::numeric_limits<double>::infinity();
   const dvec3 s(film.sum[3 * p], film.sum[3 * p + 1], film.sum[3 * p + 2]);
   const dvec3 sa(film.half_sum[3 * p], film.half_sum[3 * p + 1], film.half_sum[3 * p + 2]);
-  const double m = lum(s) / n, d = lum(sa) / na - lum(s - sa) / nb;
+  const double la = lum(sa) / na, lb = lum(s - sa) / nb, d = la - lb, m = std::min(la, lb);
   return std::sqrt(d * d * (na * nb / (n * n)) / (m * m + 0.01));
 }
 
@@ -38,8 +47,9 @@ double est_rel_mse(const Film& film) {
   double total = 0.0;
   size_t pixels = 0;
   for (size_t p = 0; p < film.pixel_count(); ++p) {
-    dvec3 m, v;
-    if (!pixel_mean_variance(film, p, m, v)) continue;
+    PixelEstimate e;
+    if (!pixel_estimate(film, p, e)) continue;
+    const dvec3 v = e.var_mean, m = e.scale;
     total += v.x / (m.x * m.x + 0.01) + v.y / (m.y * m.y + 0.01) + v.z / (m.z * m.z + 0.01);
     ++pixels;
   }

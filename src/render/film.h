@@ -8,7 +8,6 @@
 ///
 /// Every accumulation buffer is a plain vector that adds element-wise: for_each_buffer lists them all, so a
 /// reducer (MPI, tests) can sum two films without knowing the buffers' names.
-#include <bit>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -17,17 +16,15 @@
 
 namespace pt {
 
-/// Whether sample `index` of a pixel goes to the A half. Christensen, Kensler and Kilpatrick 2018 ("Progressive
-/// Multi-Jittered Sample Sequences", section 10.2.1) split a (0,2)-sequence into two classes by the parity of the
-/// index bits at odd positions; Cycles uses the same split for its Owen-scrambled, shuffled Sobol-Burley sampler.
-/// Why it is unbiased for both samplers: the split depends on the sample index alone, never on the sample values,
-/// and every sample of either sampler is uniformly distributed on its own (independent: trivially; Owen-scrambled
-/// Sobol: the output scramble makes every single point uniform), so each half's mean is an unbiased estimate of
-/// the pixel. Why this split rather than even/odd: every group of four consecutive indices puts two samples in
-/// each half, and unlike splitting on the lowest index bit it does not give one half a fixed half of the first
-/// (camera) dimension's stratification pairs, so the two halves are closer to independent and (A-B)^2/4 is a
-/// closer estimate of Var(mean) (measured in bench-error, "estimator validation").
-inline bool sample_in_half_a(uint64_t index) { return (std::popcount(uint32_t(index) & 0xaaaaaaaau) & 1) == 0; }
+/// Whether sample `index` of a pixel goes to the A half: the even indices. Unbiased with both samplers: the split
+/// depends on the index alone, never on the sample values, so each half's mean is an unbiased estimate of the pixel.
+/// For (A - B)^2 / 4 to estimate Var(mean) the halves must also be independent: true for independent samples, and
+/// made true for Owen-scrambled Sobol by scrambling the even and the odd samples independently (render/sampler.h),
+/// as randomized QMC estimates its error from independent replicates (Owen 1997). We measured the alternative of
+/// one sequence split into stratification classes (Christensen et al. 2018, section 10.2.1, as Cycles does): its
+/// halves are negatively correlated and the estimate came out 1.6x (Cornell box) to 9x (plane under a light) too
+/// large (docs/BENCHMARKS.md, "Convergence").
+inline bool sample_in_half_a(uint64_t index) { return (index & 1u) == 0; }
 
 struct Film {
   int width = 0;

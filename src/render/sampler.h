@@ -10,7 +10,10 @@ enum class SamplerKind : int { independent = 0, sobol = 1 };
 
 /// independent: PCG32 per pixel sample. sobol: each successive 1D/2D draw ("dimension") of a pixel's samples is
 /// its own shuffled Owen-scrambled Sobol sequence over the sample index (Burley 2020), which stratifies every
-/// dimension across a pixel's samples while keeping dimensions decorrelated.
+/// dimension across a pixel's samples while keeping dimensions decorrelated. The even and the odd samples of a
+/// pixel are two independently scrambled sequences (index i >> 1 of scramble i & 1): randomized QMC with two
+/// independent replicates, so the film's two halves (sample_in_half_a, render/film.h) are independent and their
+/// difference estimates the error without the bias that stratification between the halves would cause.
 struct PixelSampler {
   SamplerKind kind = SamplerKind::independent;
   Pcg32 rng;
@@ -25,8 +28,8 @@ struct PixelSampler {
     if (kind == SamplerKind::independent) {
       s.rng = make_sample_rng(seed, pixel_index, sample_index);
     } else {
-      s.pixel_seed = uint32_t(hash_combine(mix_bits(seed + 0x51ed27u), pixel_index));
-      s.sample_index = uint32_t(sample_index);
+      s.pixel_seed = uint32_t(hash_combine(mix_bits(seed + 0x51ed27u + (sample_index & 1u)), pixel_index));
+      s.sample_index = uint32_t(sample_index >> 1);
     }
     return s;
   }

@@ -24,7 +24,7 @@ TEST(ConvergenceCli, ErrorCsvWithoutAReferenceHasEmptyReferenceColumns) {
   std::string csv = read_file(dir / "e.csv");
   EXPECT_EQ(csv.rfind("frame,spp,seconds,rmse,rel_mse,est_rel_mse\n", 0), 0u) << csv;
   EXPECT_EQ(count_lines(csv), 9);
-  // Frames 1..3: the second half of the estimator is still empty (unknown); from frame 4 on it is a number.
+  // Frame 1: the second half of the estimator is still empty (unknown); from frame 2 on it is a number.
   EXPECT_NE(csv.find("\n1,1,"), std::string::npos);
   std::string last = csv.substr(csv.rfind('\n', csv.size() - 2) + 1);
   EXPECT_EQ(last.rfind("8,8,", 0), 0u) << last;

@@ -49,21 +49,17 @@ TEST(Estimator, VarianceOfTheMeanIsUnbiasedForUnequalHalves) {
   EXPECT_NEAR(mean_estimated_variance(12, 4, 20000, 2) / truth, 1.0, 0.04);
 }
 
-TEST(Estimator, HalvesSplitEveryFourSamplesEvenly) {
-  for (uint64_t base = 0; base < 4096; base += 4) {
-    int a = 0;
-    for (uint64_t i = base; i < base + 4; ++i) a += sample_in_half_a(i);
-    ASSERT_EQ(a, 2) << base;
-  }
+TEST(Estimator, HalvesSplitEveryTwoSamplesEvenly) {
+  for (uint64_t base = 0; base < 4096; base += 2) ASSERT_NE(sample_in_half_a(base), sample_in_half_a(base + 1));
 }
 
 TEST(Estimator, UnknownUntilBothHalvesHoldSamples) {
   Film film(2, 1);
   film.add(0, vec3(1.0f), 0);
-  film.add(0, vec3(3.0f), 1);  // indices 0 and 1 are both in the A half
+  film.add(0, vec3(3.0f), 2);  // indices 0 and 2 are both in the A half
   EXPECT_TRUE(std::isinf(pixel_rel_error(film, 0)));
   EXPECT_TRUE(std::isnan(est_rel_mse(film)));
-  film.add(0, vec3(2.0f), 2);
+  film.add(0, vec3(2.0f), 1);
   EXPECT_TRUE(std::isfinite(pixel_rel_error(film, 0)));
   // A = 2, B = 2: zero estimated variance.
   EXPECT_EQ(est_rel_mse(film), 0.0);
@@ -81,21 +77,17 @@ Scene make_floor_scene() {
   return s;
 }
 
-// On a render, the mean estimated variance matches the variance measured across independent runs. 64 seeds of a
-// 16 x 16 image; the tolerance of 15% is more than 5 standard deviations of the comparison (measured spread ~2.5%).
-TEST(Estimator, MatchesTheVarianceAcrossIndependentRendersOfAScene) {
-  RenderScene rs = make_render_scene(make_floor_scene());
+/// Ratio of the mean estimated Var(mean) to the variance of the pixel means measured across `runs` renders.
+double estimated_over_measured(const RenderScene& rs, Renderer& r, uint64_t seed_base, int runs) {
   RenderParams p;
   p.width = p.height = 16;
   p.sampler = SamplerKind::independent;
   p.spp_per_frame = 16;
-  Renderer r(2);
-  const int runs = 64;
   const size_t n = size_t(p.width * p.height * 3);
   std::vector<double> s1(n), s2(n);
   double est = 0;
   for (int k = 0; k < runs; ++k) {
-    p.seed = uint64_t(k) + 100;
+    p.seed = seed_base + uint64_t(k);
     Film film(p.width, p.height);
     RenderCounters c;
     r.render_frame(rs, p, film, 0, c);
@@ -111,9 +103,24 @@ TEST(Estimator, MatchesTheVarianceAcrossIndependentRendersOfAScene) {
   }
   double measured = 0;
   for (size_t i = 0; i < n; ++i) measured += (s2[i] - s1[i] * s1[i] / runs) / (runs - 1);
-  est /= runs;
-  ASSERT_GT(measured, 0.0);
-  EXPECT_NEAR(est / measured, 1.0, 0.15);
+  return est / runs / measured;
+}
+
+// On a render, the mean estimated variance matches the variance measured across independent runs. Both sides are
+// dominated by a few pixels at the light's edge, so the ratio of one group of 32 runs has a standard deviation of
+// about 0.18 (measured groups: 1.23, 1.02, 1.01, 1.40, printed below); the pooled ratio of 4 groups (sd ~0.09) is
+// tested at +-0.45, 5 standard deviations (false alarm below 1e-6 for new seeds; the seeds are fixed, so the test
+// is deterministic). A variance formula missing its /4, or dividing by n instead of n^2, fails it.
+TEST(Estimator, MatchesTheVarianceAcrossIndependentRendersOfAScene) {
+  RenderScene rs = make_render_scene(make_floor_scene());
+  Renderer r(2);
+  double pooled = 0;
+  for (int g = 0; g < 4; ++g) {
+    double ratio = estimated_over_measured(rs, r, 1000 + 100 * uint64_t(g), 32);
+    std::printf("group %d: estimated / measured = %.3f\n", g, ratio);
+    pooled += ratio / 4;
+  }
+  EXPECT_NEAR(pooled, 1.0, 0.45);
 }
 
 /// The active set as the README defines it, written out directly.
