@@ -3,6 +3,7 @@
 #include "app/options.h"
 #include "render/render_scene.h"
 #include "render/stats.h"
+#include "render/stats_json.h"
 
 namespace pt {
 
@@ -11,20 +12,6 @@ int run_app(int argc, const char* const* argv);
 
 /// Renders options.frames frames (or until the time limit) without a window, writes outputs; returns exit code.
 int run_headless(const AppOptions& options, const Scene& scene);
-
-/// Summary of a finished run, for --stats-json.
-struct RunSummary {
-  int frames = 0;
-  int spp = 0;
-  double seconds = 0.0;       ///< rendering time, excluding loading and BVH build
-  double load_ms = 0.0;
-  RenderCounters counters;
-  int threads = 1;
-};
-
-/// The stats JSON object (see README): spp, seconds, rays, mrays_per_s, nonfinite_samples, bvh, skipped, ...
-std::string make_stats_json(const AppOptions& options, const Scene& scene, const RenderScene& rs,
-                            const RunSummary& run);
 
 /// Root-mean-square error and relative MSE (mean of (x - r)^2 / (r^2 + 0.01) over pixels and channels).
 struct ImageError {

@@ -193,10 +193,9 @@ class SceneBuilder {
     m.name = name;
     if (auto type = n.get("type")) {
       std::string t = type->string();
-      if (t == "diffuse") m.type = MaterialType::diffuse;
-      else if (t == "specular") m.type = MaterialType::specular;
-      else if (t == "glass") m.type = MaterialType::glass;
-      else type->fail("unknown material type '" + t + "' (expected diffuse, specular or glass)");
+      std::optional<MaterialType> v = value_of<MaterialType>(kMaterialTypeNames, t);
+      if (!v) type->fail("unknown material type '" + t + "' (expected " + names_list<MaterialType>(kMaterialTypeNames) + ")");
+      m.type = *v;
     }
     if (auto albedo = n.get("albedo")) {
       m.albedo = albedo->vector3();
