@@ -264,7 +264,8 @@ class SceneBuilder {
     if (!file && !generate) n.fail("missing \"file\" (an .obj path; or \"generate\")");
     int override_material = n.get("material") ? int(material_of(n)) : -1;
     Transform t;
-    if (transform) t = parse_transform(*transform);
+    MeshSource source;
+    if (transform) t = parse_transform(*transform, source);
     ObjData obj;
     if (generate) {
       if (override_material < 0) override_material = int(add_material(scene, Material{"default"}));
@@ -275,12 +276,16 @@ class SceneBuilder {
       Result<ObjData> r = read_obj(p.lexically_normal().string(), override_material < 0);
       if (!r) file->fail(r.error());
       obj = std::move(*r);
+      std::error_code ec;
+      source.file = std::filesystem::absolute(p, ec).lexically_normal().string();
+      source.file_materials = override_material < 0;
+      obj.mesh.source = source;
     }
     apply_transform(obj.mesh, t);
     append_obj(scene, std::move(obj), override_material);
   }
 
-  Transform parse_transform(const Node& n) {
+  Transform parse_transform(const Node& n, MeshSource& source) {
     n.expect_object();
     check_keys(n, {"scale", "rotate", "translate"});
     vec3 scale(1.0f), axis(0.0f, 1.0f, 0.0f), translate(0.0f);
@@ -299,6 +304,7 @@ class SceneBuilder {
       if (!(len > 0.0f) || !std::isfinite(len)) r->fail("rotation axis must not be zero");
     }
     if (auto tr = n.get("translate")) translate = tr->vector3();
+    source.scale = scale, source.axis = axis, source.degrees = degrees, source.translate = translate;
     return make_transform(scale, axis, degrees, translate);
   }
 

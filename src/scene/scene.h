@@ -59,8 +59,17 @@ inline std::array<vec3, 6> quad_triangles(const Quad& q, vec3 offset = vec3(0.0f
   return {c, a, b, d, b, a};
 }
 
+/// Where a mesh came from, so a saved scene (scene/save_json.h) can name its file instead of copying it.
+struct MeshSource {
+  std::string file;             ///< absolute path of the OBJ it was read from; empty: generated, or edited since
+  bool file_materials = false;  ///< its faces use the file's MTL materials (no "material" override)
+  vec3 scale{1.0f}, axis{0.0f, 1.0f, 0.0f}, translate{0.0f};  ///< the JSON transform, as written
+  float degrees = 0.0f;
+};
+
 /// A triangle mesh in world space. Front side: counter-clockwise winding.
 struct Mesh {
+  MeshSource source;
   std::string name;                    ///< file or object name, for messages and the viewer
   std::vector<vec3> positions;
   std::vector<uvec3> indices;          ///< one per triangle, into positions

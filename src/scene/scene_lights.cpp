@@ -84,6 +84,7 @@ void detach_vertices(Mesh& mesh, const SceneLight& light) {
 template <class F>
 void transform_triangle_light(Scene& scene, const SceneLight& light, F&& f) {
   Mesh& mesh = scene.meshes[light.shape];
+  mesh.source.file.clear();  // no longer what its file describes: a saved scene writes the mesh out
   detach_vertices(mesh, light);
   for (uint32_t i : light_vertices(mesh, light)) mesh.positions[i] = f(mesh.positions[i]);
 }

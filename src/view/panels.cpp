@@ -156,6 +156,9 @@ void scene_panel(ViewerState& st, PanelState& ps) {
   if (ImGui::Button("open OBJ / JSON") && !ps.open_path.empty()) st.start_load(ps.open_path);
   ImGui::SameLine();
   ImGui::TextDisabled("(or drop a file)");
+  input_text("scene file", ps.scene_path);
+  if (ImGui::Button("save scene")) st.save_scene(ps.scene_path);
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("a version-1 JSON of what the window shows: camera, materials, lights, meshes");
   if (st.loading.valid() && st.load_progress) {
     const LoadProgress& lp = *st.load_progress;
     double s = std::chrono::duration<double>(Clock::now() - lp.started).count();

@@ -214,6 +214,11 @@ const ScriptCommandSpec kCommands[] = {
        st.save_current(c.args[0]);
        return ScriptStep::done;
      }},
+    {"save-scene", "PATH", 1, 1, false, check_none,
+     [](ScriptRun& r, ViewerState& st, const ScriptCommand& c) {
+       if (auto err = st.save_scene(c.args[0])) fail(r, c, "save-scene: " + err->message);
+       return ScriptStep::done;
+     }},
     {"expect-restart", "", 0, 0, false, check_none,
      [](ScriptRun& r, ViewerState& st, const ScriptCommand& c) {
        if (st.session->epoch() == r.epoch_before_previous) fail(r, c, "expected a restart, the epoch did not change");

@@ -5,6 +5,7 @@
 #include "render/camera.h"
 #include "render/stats_json.h"
 #include "scene/load.h"
+#include "scene/save_json.h"
 
 namespace pt {
 
@@ -40,6 +41,7 @@ void ViewerState::init(Scene s, const RenderParams& p, const DisplaySettings& d,
   geo = make_render_geometry(s);
   ++geometry_builds;
   scene = std::move(s);
+  loaded_materials = scene.materials;
   lights = find_scene_lights(scene);
   render_scene = std::make_shared<RenderScene>(make_render_scene(scene, geo));
   if (threads >= 0) session = std::make_unique<RenderSession>(threads);
@@ -132,6 +134,7 @@ Tier ViewerState::apply(const Edit& edit) {
       st.scene = std::move(e.loaded->scene);
       st.geo = std::move(e.loaded->geo);
       st.load_ms = e.loaded->load_ms;
+      st.loaded_materials = st.scene.materials;
       st.home_camera = st.scene.camera.value_or(Camera{});
       st.selected_material = st.selected_light = -1;
       ++st.geometry_builds;  // built off the UI thread, by start_load
@@ -196,6 +199,12 @@ void ViewerState::save_current(const std::string& path) {
   Image copy = frame.image;
   saves.push_back(std::async(std::launch::async, [path, copy = std::move(copy)]() { return save_image(path, copy); }));
   status = "saving " + path;
+}
+
+std::optional<Error> ViewerState::save_scene(const std::string& path) {
+  std::optional<Error> err = save_scene_json(scene, loaded_materials, path);
+  status = err ? err->message : "saved " + path;
+  return err;
 }
 
 std::string ViewerState::stats_json() const {

@@ -43,6 +43,7 @@ struct ViewerState {
   std::unique_ptr<RenderSession> session;           ///< null in tests that only check tiers
   SessionFrame frame;          ///< latest frame shown
   std::vector<SceneLight> lights;  ///< find_scene_lights(scene), kept stable between material edits
+  std::vector<Material> loaded_materials;  ///< as loaded: a saved scene names a mesh's file while they are unedited
   int selected_material = -1;
   int selected_light = -1;
   int preview_div = 4;         ///< first frame of every restart at this fraction of the resolution
@@ -89,6 +90,8 @@ struct ViewerState {
   bool select_at(int x, int y);
   /// Saves the current mean on a background thread.
   void save_current(const std::string& path);
+  /// Writes the scene as shown (camera, edited materials and lights, meshes) as a version-1 JSON, atomically.
+  std::optional<Error> save_scene(const std::string& path);
   std::string stats_json() const;
 
  private:
