@@ -6,6 +6,7 @@
 #include <filesystem>
 
 #include "app/options.h"
+#include "render/names.h"
 
 namespace pt {
 
@@ -54,7 +55,7 @@ ParseOutcome parse_command_line(int argc, const char* const* argv) {
   app.add_option("scene", o.scene_path, "Scene file: .obj (materials from its .mtl), .json, .gltf or .glb; omitted: built-in scene");
   auto* frames_opt = app.add_option("--frames", frames, "Headless: render N progressive frames, write --out, exit");
   app.add_option("--spp-per-frame", o.render.spp_per_frame, "Samples per pixel added each frame (default 1)");
-  app.add_option("--size", size, "Image size WxH (default 512x512)");
+  auto* size_opt = app.add_option("--size", size, "Image size WxH (default 512x512; the viewer follows the window)");
   app.add_option("--seed", seed, "Random seed (default 0)");
   app.add_option("--threads", o.render.threads, "Worker threads (default: all cores)");
   auto* out_opt = app.add_option("--out", o.out, "Output image: .png (tonemapped sRGB), .pfm or .exr (linear mean)");
@@ -121,20 +122,21 @@ ParseOutcome parse_command_line(int argc, const char* const* argv) {
   }
   if (o.render.threads < 0 || o.render.threads > 1024) return fail("--threads: must be from 0 (all cores) to 1024");
   if (o.render.max_depth < 0 || o.render.max_depth > 1000000) return fail("--max-depth: must be from 0 to 1000000");
-  if (integrator == "mis") o.render.integrator = IntegratorKind::mis;
-  else if (integrator == "nee") o.render.integrator = IntegratorKind::nee;
-  else if (integrator == "bsdf") o.render.integrator = IntegratorKind::bsdf;
-  else return fail("--integrator: expected mis, nee or bsdf, got '" + integrator + "'");
-  if (light_sampling == "area") o.render.light_sampling = LightSampling::area;
-  else if (light_sampling == "solid-angle") o.render.light_sampling = LightSampling::solid_angle;
-  else return fail("--light-sampling: expected area or solid-angle, got '" + light_sampling + "'");
-  if (sampler == "sobol") o.render.sampler = SamplerKind::sobol;
-  else if (sampler == "independent") o.render.sampler = SamplerKind::independent;
-  else return fail("--sampler: expected sobol or independent, got '" + sampler + "'");
-  if (tonemap == "clamp" || tonemap == "none") o.display.tonemap = Tonemap::clamp;
-  else if (tonemap == "reinhard") o.display.tonemap = Tonemap::reinhard;
-  else if (tonemap == "aces") o.display.tonemap = Tonemap::aces;
-  else return fail("--tonemap: expected clamp, reinhard or aces, got '" + tonemap + "'");
+  // One name table per enum (render/names.h); "none" is an old alias of clamp.
+  auto pick = []<class E, size_t N>(const EnumName<E> (&table)[N], const std::string& option,
+                                    const std::string& value, E& out) {
+    std::optional<E> v = value_of<E>(table, value);
+    if (!v) return option + ": expected " + names_list<E>(table) + ", got '" + value + "'";
+    out = *v;
+    return std::string();
+  };
+  if (tonemap == "none") tonemap = "clamp";
+  for (const std::string& err :
+       {pick(kIntegratorNames, "--integrator", integrator, o.render.integrator),
+        pick(kLightSamplingNames, "--light-sampling", light_sampling, o.render.light_sampling),
+        pick(kSamplerNames, "--sampler", sampler, o.render.sampler),
+        pick(kTonemapNames, "--tonemap", tonemap, o.display.tonemap)})
+    if (!err.empty()) return fail(err);
   if (!std::isfinite(o.display.exposure) || std::abs(o.display.exposure) > 64)
     return fail("--exposure: must be a finite number of stops from -64 to 64");
   if (time_opt->count()) {
@@ -185,6 +187,7 @@ ParseOutcome parse_command_line(int argc, const char* const* argv) {
     if (ext != ".pfm" && ext != ".exr") return fail("--reference: must be a .pfm or .exr file: " + o.reference);
   }
   o.viewer.stats_json = o.stats_json;
+  o.viewer.lock_size = size_opt->count() > 0;
   if (o.out_given) o.viewer.out = o.out;
   result.options = std::move(o);
   return result;

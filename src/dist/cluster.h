@@ -14,14 +14,9 @@
 
 #include "render/film.h"
 #include "render/stats.h"
+#include "render/stats_json.h"  // RankWork
 
 namespace pt {
-
-/// Time and samples of one rank, for the stats JSON.
-struct RankWork {
-  int spp = 0;
-  double seconds = 0.0;
-};
 
 class Cluster {
  public:

@@ -2,27 +2,12 @@
 /// The unidirectional path tracer: next-event estimation, BSDF sampling, or both combined by multiple importance
 /// sampling with the power heuristic (Veach 1997, chapter 9; pbrt-v4 section 13.4). Emission is counted exactly
 /// once per path under every strategy.
+#include "render/render_params.h"
 #include "render/render_scene.h"
 #include "render/sampler.h"
 #include "render/stats.h"
 
 namespace pt {
-
-enum class IntegratorKind : int { mis = 0, nee = 1, bsdf = 2 };
-
-/// The parameters of one render: shared by the command line and the viewer.
-struct RenderParams {
-  int width = 512;
-  int height = 512;
-  int spp_per_frame = 1;
-  int max_depth = 64;  ///< pbrt's convention: 0 = emission seen directly, 1 = plus direct lighting, ...
-  IntegratorKind integrator = IntegratorKind::mis;
-  LightSampling light_sampling = LightSampling::solid_angle;
-  SamplerKind sampler = SamplerKind::sobol;
-  uint64_t seed = 0;
-  int threads = 0;     ///< 0 = all cores
-  bool force_generic_kernel = false;  ///< benchmarks only: disable the specialization on scene features
-};
 
 /// Radiance arriving along `ray` (from the camera). Counters are updated; the caller drops non-finite results.
 vec3 trace_path(const RenderScene& scene, const RenderParams& params, Ray ray, PixelSampler& sampler,

@@ -83,9 +83,7 @@ std::shared_ptr<const RenderGeometry> make_render_geometry(const Scene& scene, c
   }
   g.quad_first_triangle = uint32_t(g.tri_material.size());
   for (const Quad& q : scene.quads) {
-    // Triangles (c, c+e1, c+e2) and (c+e1+e2, c+e2, c+e1): the winding of cross(e1, e2).
-    vec3 c = q.corner - o, a = c + q.edge1, b = c + q.edge2, d = c + q.edge1 + q.edge2;
-    for (vec3 p : {c, a, b, d, b, a}) g.tri_vertices.push_back(p);
+    for (vec3 p : quad_triangles(q, o)) g.tri_vertices.push_back(p);
     for (int k = 0; k < 6; ++k) g.tri_normals.push_back(vec3(0.0f));
     g.tri_material.push_back(clamp_material(q.material));
     g.tri_material.push_back(clamp_material(q.material));
@@ -120,18 +118,18 @@ RenderScene make_render_scene(const Scene& scene, const BvhBuildOptions& bvh_opt
   return make_render_scene(scene, make_render_geometry(scene, bvh_options));
 }
 
-std::shared_ptr<const RenderGeometry> update_quads(const RenderGeometry& geo, const Scene& scene) {
+std::shared_ptr<const RenderGeometry> refit_render_geometry(const RenderGeometry& geo, const Scene& scene) {
   auto out = std::make_shared<RenderGeometry>(geo);
   RenderGeometry& g = *out;
+  if (scene.triangle_count() != g.triangle_count() || scene.spheres.size() != g.spheres.size()) return out;
   const vec3 o = g.origin;
-  for (size_t i = 0; i < scene.quads.size(); ++i) {
-    size_t t = g.quad_first_triangle + 2 * i;
-    if (t + 1 >= g.triangle_count()) break;
-    const Quad& q = scene.quads[i];
-    vec3 c = q.corner - o, a = c + q.edge1, b = c + q.edge2, d = c + q.edge1 + q.edge2;
-    vec3* v = &g.tri_vertices[3 * t];
-    v[0] = c, v[1] = a, v[2] = b, v[3] = d, v[4] = b, v[5] = a;
-  }
+  vec3* v = g.tri_vertices.data();
+  for (const Mesh& mesh : scene.meshes)
+    for (uvec3 idx : mesh.indices)
+      for (int k = 0; k < 3; ++k) *v++ = mesh.positions[idx[k]] - o;
+  for (const Quad& q : scene.quads)
+    for (vec3 p : quad_triangles(q, o)) *v++ = p;
+  for (size_t s = 0; s < scene.spheres.size(); ++s) g.spheres[s] = {scene.spheres[s].center - o, scene.spheres[s].radius};
   refit_trace_geometry(g.trace, g.tri_vertices, g.spheres);
   return out;
 }

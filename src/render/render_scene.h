@@ -70,9 +70,15 @@ RenderScene make_render_scene(const Scene& scene, const BvhBuildOptions& bvh_opt
 /// must be those `geo` was built from): a material or camera edit costs no BVH rebuild.
 RenderScene make_render_scene(const Scene& scene, std::shared_ptr<const RenderGeometry> geo);
 
-/// Geometry with the quads of `scene` moved (same count as when `geo` was built), refitted, not rebuilt: what an
-/// interactive light-size or light-position edit costs.
-std::shared_ptr<const RenderGeometry> update_quads(const RenderGeometry& geo, const Scene& scene);
+/// Geometry with the shapes of `scene` moved (the same triangles and spheres as when `geo` was built: only
+/// positions, quads and sphere radii changed), refitted, not rebuilt: what an interactive light edit costs. A scene
+/// with other counts returns an unchanged copy.
+std::shared_ptr<const RenderGeometry> refit_render_geometry(const RenderGeometry& geo, const Scene& scene);
+
+/// The scene material of primitive `prim` (triangles first, then spheres), as the BVH reports hits.
+inline uint32_t primitive_material(const RenderGeometry& g, uint32_t prim) {
+  return prim < g.triangle_count() ? g.tri_material[prim] : g.sphere_material[prim - g.triangle_count()];
+}
 
 /// A world-space ray in the render scene's (origin-shifted) frame, for callers outside the camera: tests, picking.
 inline Ray to_render_frame(const RenderScene& rs, Ray ray) {

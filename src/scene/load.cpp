@@ -4,6 +4,7 @@
 
 #include <cerrno>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 
 #include "scene/builtin_assets.h"
@@ -107,6 +108,8 @@ Result<Scene> load_obj_scene(const std::string& path) {
     Scene scene;
     scene.source = path;
     append_obj(scene, std::move(*obj), -1);
+    std::error_code ec;
+    scene.meshes.back().source = {std::filesystem::absolute(path, ec).lexically_normal().string(), true};
     return scene;
   });
 }

@@ -194,10 +194,9 @@ class SceneBuilder {
     m.name = name;
     if (auto type = n.get("type")) {
       std::string t = type->string();
-      if (t == "diffuse") m.type = MaterialType::diffuse;
-      else if (t == "specular") m.type = MaterialType::specular;
-      else if (t == "glass") m.type = MaterialType::glass;
-      else type->fail("unknown material type '" + t + "' (expected diffuse, specular or glass)");
+      std::optional<MaterialType> v = value_of<MaterialType>(kMaterialTypeNames, t);
+      if (!v) type->fail("unknown material type '" + t + "' (expected " + names_list<MaterialType>(kMaterialTypeNames) + ")");
+      m.type = *v;
     }
     if (auto albedo = n.get("albedo")) {
       m.albedo = albedo->vector3();
@@ -266,7 +265,8 @@ class SceneBuilder {
     if (!file && !generate) n.fail("missing \"file\" (an .obj, .gltf or .glb path; or \"generate\")");
     int override_material = n.get("material") ? int(material_of(n)) : -1;
     Transform t;
-    if (transform) t = parse_transform(*transform);
+    MeshSource source;
+    if (transform) t = parse_transform(*transform, source);
     ObjData obj;
     bool gltf = false;
     if (generate) {
@@ -288,6 +288,10 @@ class SceneBuilder {
         if (!r) file->fail(r.error());
         obj = std::move(*r);
       }
+      std::error_code ec;
+      source.file = std::filesystem::absolute(p, ec).lexically_normal().string();
+      source.file_materials = override_material < 0;
+      obj.mesh.source = source;
     }
     if (auto camera = n.get("camera"); camera && !gltf) camera->fail("\"camera\" picks a camera of a .gltf/.glb file");
     apply_transform(obj.mesh, t);
@@ -314,7 +318,7 @@ class SceneBuilder {
     scene.camera = scene.cameras[first + size_t(index)];
   }
 
-  Transform parse_transform(const Node& n) {
+  Transform parse_transform(const Node& n, MeshSource& source) {
     n.expect_object();
     check_keys(n, {"scale", "rotate", "translate"});
     vec3 scale(1.0f), axis(0.0f, 1.0f, 0.0f), translate(0.0f);
@@ -333,6 +337,7 @@ class SceneBuilder {
       if (!(len > 0.0f) || !std::isfinite(len)) r->fail("rotation axis must not be zero");
     }
     if (auto tr = n.get("translate")) translate = tr->vector3();
+    source.scale = scale, source.axis = axis, source.degrees = degrees, source.translate = translate;
     return make_transform(scale, axis, degrees, translate);
   }
 

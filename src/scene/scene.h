@@ -1,6 +1,7 @@
 #pragma once
 /// The scene as described by a file: plain structs, integer indices, no behaviour. The render layer turns this into
 /// what it traces (BVH, light list); the viewer edits it and asks for a rebuild of only what changed.
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -8,10 +9,15 @@
 
 #include "core/aabb.h"
 #include "core/math.h"
+#include "core/name_table.h"
 
 namespace pt {
 
 enum class MaterialType : uint8_t { diffuse, specular, glass };
+/// The names of material types: JSON "type", the viewer's combo and script, the scene writer.
+inline constexpr EnumName<MaterialType> kMaterialTypeNames[] = {
+    {MaterialType::diffuse, "diffuse"}, {MaterialType::specular, "specular"}, {MaterialType::glass, "glass"}};
+inline const char* name_of(MaterialType v) { return name_of<MaterialType>(kMaterialTypeNames, v); }
 
 /// A surface material. Every surface scatters on both sides; emission leaves the front side only.
 struct Material {
@@ -46,8 +52,24 @@ struct Quad {
   uint32_t material = 0;
 };
 
+/// The two triangles of a quad, (c, c+e1, c+e2) and (c+e1+e2, c+e2, c+e1): the winding of cross(e1, e2), and the
+/// first triangle's edges are the quad's edges. `offset` is subtracted from every corner.
+inline std::array<vec3, 6> quad_triangles(const Quad& q, vec3 offset = vec3(0.0f)) {
+  vec3 c = q.corner - offset, a = c + q.edge1, b = c + q.edge2, d = c + q.edge1 + q.edge2;
+  return {c, a, b, d, b, a};
+}
+
+/// Where a mesh came from, so a saved scene (scene/save_json.h) can name its file instead of copying it.
+struct MeshSource {
+  std::string file;             ///< absolute path of the OBJ it was read from; empty: generated, or edited since
+  bool file_materials = false;  ///< its faces use the file's MTL materials (no "material" override)
+  vec3 scale{1.0f}, axis{0.0f, 1.0f, 0.0f}, translate{0.0f};  ///< the JSON transform, as written
+  float degrees = 0.0f;
+};
+
 /// A triangle mesh in world space. Front side: counter-clockwise winding.
 struct Mesh {
+  MeshSource source;
   std::string name;                    ///< file or object name, for messages and the viewer
   std::vector<vec3> positions;
   std::vector<uvec3> indices;          ///< one per triangle, into positions

@@ -3,6 +3,7 @@
 #include <glad/gl.h>
 #include <stb_image_write.h>
 
+#include <cstring>
 #include <vector>
 
 #include "core/atomic_file.h"
@@ -44,6 +45,7 @@ std::string GlDisplay::init() {
   loc_image_ = glGetUniformLocation(program_, "u_image");
   glGenVertexArrays(1, &vao_);
   glGenTextures(1, &texture_);
+  glGenBuffers(1, &pbo_);
   glBindTexture(GL_TEXTURE_2D, texture_);
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
@@ -54,22 +56,37 @@ std::string GlDisplay::init() {
 
 void GlDisplay::destroy() {
   if (texture_) glDeleteTextures(1, &texture_);
+  if (pbo_) glDeleteBuffers(1, &pbo_);
   if (vao_) glDeleteVertexArrays(1, &vao_);
   if (program_) glDeleteProgram(program_);
-  texture_ = vao_ = program_ = 0;
+  texture_ = vao_ = program_ = pbo_ = 0;
 }
 
 void GlDisplay::upload(const Image& image) {
   if (image.width <= 0 || image.height <= 0) return;
+  // Through a pixel buffer object: the copy into the PBO is a memcpy into driver memory, and the texture update
+  // from it is asynchronous, so a large window does not stall the UI thread on the transfer (orphaning the buffer
+  // each time lets the driver keep the previous one in flight).
+  const size_t bytes = image.rgb.size() * sizeof(float);
+  glBindBuffer(GL_PIXEL_UNPACK_BUFFER, pbo_);
+  glBufferData(GL_PIXEL_UNPACK_BUFFER, GLsizeiptr(bytes), nullptr, GL_STREAM_DRAW);
+  if (void* dst = glMapBufferRange(GL_PIXEL_UNPACK_BUFFER, 0, GLsizeiptr(bytes),
+                                   GL_MAP_WRITE_BIT | GL_MAP_INVALIDATE_BUFFER_BIT)) {
+    std::memcpy(dst, image.rgb.data(), bytes);
+    glUnmapBuffer(GL_PIXEL_UNPACK_BUFFER);
+  } else {
+    glBufferSubData(GL_PIXEL_UNPACK_BUFFER, 0, GLsizeiptr(bytes), image.rgb.data());
+  }
   glBindTexture(GL_TEXTURE_2D, texture_);
   glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
   if (image.width != tex_w_ || image.height != tex_h_) {
     tex_w_ = image.width;
     tex_h_ = image.height;
-    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGB32F, tex_w_, tex_h_, 0, GL_RGB, GL_FLOAT, image.rgb.data());
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGB32F, tex_w_, tex_h_, 0, GL_RGB, GL_FLOAT, nullptr);
   } else {
-    glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, tex_w_, tex_h_, GL_RGB, GL_FLOAT, image.rgb.data());
+    glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, tex_w_, tex_h_, GL_RGB, GL_FLOAT, nullptr);
   }
+  glBindBuffer(GL_PIXEL_UNPACK_BUFFER, 0);
 }
 
 void GlDisplay::draw(int x, int y, int w, int h, const DisplaySettings& display) const {

@@ -14,7 +14,7 @@ class GlDisplay {
   /// Needs a current GL 3.3 core context. Returns an error message on shader failure.
   std::string init();
   void destroy();
-  /// Uploads a new image (any size; the texture is reallocated when the size changes).
+  /// Uploads a new image through a pixel buffer object (any size; the texture is reallocated when it changes).
   void upload(const Image& image);
   /// Draws the image letterboxed into the framebuffer rectangle (x, y, w, h) (GL coordinates, origin bottom-left).
   void draw(int x, int y, int w, int h, const DisplaySettings& display) const;
@@ -22,7 +22,7 @@ class GlDisplay {
   int image_height() const { return tex_h_; }
 
  private:
-  unsigned program_ = 0, vao_ = 0, texture_ = 0;
+  unsigned program_ = 0, vao_ = 0, texture_ = 0, pbo_ = 0;
   int tex_w_ = 0, tex_h_ = 0;
   int loc_exposure_ = -1, loc_tonemap_ = -1, loc_image_ = -1;
 };

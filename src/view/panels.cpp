@@ -4,6 +4,8 @@
 
 #include <algorithm>
 
+#include "render/names.h"
+
 namespace pt {
 
 namespace {
@@ -18,29 +20,44 @@ bool input_text(const char* label, std::string& s) {
 
 bool drag_vec3(const char* label, vec3& v, float speed) { return ImGui::DragFloat3(label, &v.x, speed, 0, 0, "%.3f"); }
 
-void render_panel(ViewerState& st, PanelState& ps) {
+/// A combo over a name table: lists the table's entries in its order, whatever the enum values are.
+template <class E>
+bool name_combo(const char* label, std::span<const EnumName<E>> table, E& value) {
   bool changed = false;
-  int integrator = int(st.params.integrator);
-  changed |= ImGui::Combo("integrator", &integrator, "mis\0nee\0bsdf\0");
-  st.params.integrator = IntegratorKind(integrator);
-  int ls = int(st.params.light_sampling);
-  changed |= ImGui::Combo("light sampling", &ls, "area\0solid angle\0");
-  st.params.light_sampling = LightSampling(ls);
-  int sampler = int(st.params.sampler);
-  changed |= ImGui::Combo("sampler", &sampler, "independent\0sobol\0");
-  st.params.sampler = SamplerKind(sampler);
-  changed |= ImGui::SliderInt("max depth", &st.params.max_depth, 0, 256);
-  changed |= ImGui::SliderInt("spp / frame", &st.params.spp_per_frame, 1, 64);
-  int threads = st.params.threads > 0 ? st.params.threads : st.session->thread_count();
-  if (ImGui::SliderInt("threads", &threads, 1, 64)) {
-    st.params.threads = threads;
-    changed = true;
+  if (ImGui::BeginCombo(label, name_of(table, value))) {
+    for (const EnumName<E>& e : table)
+      if (ImGui::Selectable(e.name, e.value == value) && e.value != value) {
+        value = e.value;
+        changed = true;
+      }
+    ImGui::EndCombo();
   }
-  if (changed) st.restart();
+  return changed;
+}
+
+void render_panel(ViewerState& st, PanelState& ps) {
+  RenderParams p = st.params;
+  name_combo<IntegratorKind>("integrator", kIntegratorNames, p.integrator);
+  name_combo<LightSampling>("light sampling", kLightSamplingNames, p.light_sampling);
+  name_combo<SamplerKind>("sampler", kSamplerNames, p.sampler);
+  ImGui::SliderInt("max depth", &p.max_depth, 0, 256);
+  ImGui::SliderInt("spp / frame", &p.spp_per_frame, 1, 64);
+  int threads = p.threads > 0 ? p.threads : st.session->thread_count();
+  if (ImGui::SliderInt("threads", &threads, 1, 64)) p.threads = threads;
+  int size[2] = {p.width, p.height};
+  if (ImGui::InputInt2("size", size, ImGuiInputTextFlags_EnterReturnsTrue)) {
+    p.width = std::clamp(size[0], 1, 16384);
+    p.height = std::clamp(size[1], 1, 16384);
+    ps.lock_size = true;
+  }
+  ImGui::SameLine();
+  ImGui::Checkbox("lock", &ps.lock_size);
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("unlocked: the render follows the window");
+  st.apply(RenderParamsEdit{p});  // none when nothing changed
   bool paused = st.session->paused();
   if (ImGui::Checkbox("pause", &paused)) st.session->set_paused(paused);
   ImGui::SameLine();
-  if (ImGui::Button("restart")) st.restart();
+  if (ImGui::Button("restart")) st.apply(RestartEdit{});
   if (ImGui::InputInt("stop at spp", &ps.target_spp)) {
     ps.target_spp = std::max(0, ps.target_spp);
     st.session->set_target_spp(ps.target_spp);
@@ -56,7 +73,7 @@ void render_panel(ViewerState& st, PanelState& ps) {
 }
 
 void camera_panel(ViewerState& st) {
-  Camera& c = *st.scene.camera;
+  Camera c = st.scene.camera.value_or(Camera{});
   bool changed = drag_vec3("eye", c.eye, 0.01f);
   changed |= drag_vec3("target", c.target, 0.01f);
   changed |= ImGui::SliderFloat("fov", &c.fov_deg, 5.0f, 120.0f, "%.1f deg");
@@ -69,7 +86,7 @@ void camera_panel(ViewerState& st) {
     c = st.home_camera;
     changed = true;
   }
-  if (changed && glm::length(c.eye - c.target) > 0.0f) st.restart();
+  if (changed) st.apply(CameraEdit{c});
 }
 
 void material_panel(ViewerState& st) {
@@ -84,49 +101,53 @@ void material_panel(ViewerState& st) {
     ImGui::EndCombo();
   }
   if (st.selected_material < 0) return;
-  Material& m = st.scene.materials[size_t(st.selected_material)];
-  bool changed = false;
-  int type = int(m.type);
-  if (ImGui::Combo("type", &type, "diffuse\0specular\0glass\0")) {
-    m.type = MaterialType(type);
-    if (m.type == MaterialType::glass) m.albedo = vec3(1.0f);
-    changed = true;
-  }
+  Material m = st.scene.materials[size_t(st.selected_material)];
+  bool changed = name_combo<MaterialType>("type", kMaterialTypeNames, m.type);
   if (m.type != MaterialType::glass) changed |= ImGui::ColorEdit3("albedo", &m.albedo.x);
   else changed |= ImGui::SliderFloat("ior", &m.ior, 1.0f, 3.0f);
   changed |= ImGui::ColorEdit3("emission", &m.emission.x, ImGuiColorEditFlags_HDR | ImGuiColorEditFlags_Float);
-  if (changed) {
-    m.albedo = glm::clamp(m.albedo, vec3(0.0f), vec3(1.0f));
-    m.emission = glm::max(m.emission, vec3(0.0f));
-    st.restart();
-  }
+  if (changed) st.apply(MaterialEdit{st.selected_material, m});
 }
 
 void light_panel(ViewerState& st) {
-  int q = st.light_quad();
-  if (q < 0) {
-    ImGui::TextDisabled("no rectangle light in this scene");
+  if (st.lights.empty()) {
+    ImGui::TextDisabled("no light in this scene");
     return;
   }
-  Quad& quad = st.scene.quads[size_t(q)];
-  Material& m = st.scene.materials[quad.material];
-  float w = glm::length(quad.edge1), h = glm::length(quad.edge2);
-  float size[2] = {w, h};
-  if (ImGui::DragFloat2("size", size, 0.005f, 1e-4f, 1e4f, "%.3f")) st.set_light_size(size[0], size[1]);
+  if (st.selected_light < 0 || st.selected_light >= int(st.lights.size())) st.selected_light = 0;
+  const int l = st.selected_light;
+  std::string current = std::to_string(l) + ": " + light_label(st.scene, st.lights[size_t(l)]);
+  if (ImGui::BeginCombo("light", current.c_str())) {
+    for (size_t i = 0; i < st.lights.size(); ++i) {
+      std::string label = std::to_string(i) + ": " + light_label(st.scene, st.lights[i]);
+      if (ImGui::Selectable(label.c_str(), int(i) == l)) st.selected_light = int(i);
+    }
+    ImGui::EndCombo();
+  }
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("or click a light in the image");
+  const SceneLight& light = st.lights[size_t(st.selected_light)];
+  LightPlacement pl = light_placement(st.scene, light);
+  if (light.kind == SceneLightKind::sphere) {
+    float radius = 0.5f * pl.size.x;
+    if (ImGui::DragFloat("radius", &radius, 0.005f, 1e-4f, 1e4f, "%.3f") && radius > 0.0f && pl.size.x > 0.0f)
+      st.apply(LightShapeEdit{st.selected_light, {}, {}, 2.0f * radius / pl.size.x});
+  } else {
+    float size[2] = {pl.size.x, pl.size.y};
+    if (ImGui::DragFloat2("size W x H", size, 0.005f, 1e-4f, 1e4f, "%.3f"))
+      st.apply(LightShapeEdit{st.selected_light, {}, vec2(std::max(size[0], 1e-4f), std::max(size[1], 1e-4f)), {}});
+  }
+  float scale = 1.0f;
+  if (ImGui::DragFloat("scale", &scale, 0.005f, 0.5f, 2.0f, "x %.3f") && scale > 0.0f && scale != 1.0f)
+    st.apply(LightShapeEdit{st.selected_light, {}, {}, scale});
+  vec3 center = pl.center;
+  if (drag_vec3("position", center, 0.01f)) st.apply(LightShapeEdit{st.selected_light, center, {}, {}});
+  const Material& m = st.scene.materials[light.material];
   float intensity = max_component(m.emission);
   vec3 color = intensity > 0.0f ? m.emission / intensity : vec3(1.0f);
   bool changed = ImGui::ColorEdit3("color", &color.x);
   changed |= ImGui::DragFloat("intensity", &intensity, 0.1f, 0.0f, 1e6f);
-  if (changed) {
-    m.emission = glm::max(color, vec3(0.0f)) * std::max(intensity, 0.0f);
-    st.restart();
-  }
-  vec3 center = quad.corner + 0.5f * (quad.edge1 + quad.edge2);
-  if (drag_vec3("position", center, 0.01f)) {
-    quad.corner = center - 0.5f * (quad.edge1 + quad.edge2);
-    st.geo = update_quads(*st.geo, st.scene);
-    st.restart();
-  }
+  if (changed) st.apply(LightEmissionEdit{st.selected_light, color, intensity});
+  ImGui::TextDisabled("material %s", m.name.c_str());
 }
 
 void scene_panel(ViewerState& st, PanelState& ps) {
@@ -135,11 +156,23 @@ void scene_panel(ViewerState& st, PanelState& ps) {
   if (ImGui::Button("open OBJ / JSON / glTF") && !ps.open_path.empty()) st.start_load(ps.open_path);
   ImGui::SameLine();
   ImGui::TextDisabled("(or drop a file)");
-  if (st.loading.valid()) ImGui::TextColored(ImVec4(1, 0.8f, 0.3f, 1), "loading %s ...", st.loading_path.c_str());
+  input_text("scene file", ps.scene_path);
+  if (ImGui::Button("save scene")) st.save_scene(ps.scene_path);
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("a version-1 JSON of what the window shows: camera, materials, lights, meshes");
+  if (st.loading.valid() && st.load_progress) {
+    const LoadProgress& lp = *st.load_progress;
+    double s = std::chrono::duration<double>(Clock::now() - lp.started).count();
+    if (lp.stage == 0)
+      ImGui::TextColored(ImVec4(1, 0.8f, 0.3f, 1), "loading %s: parsing ... %.1f s", st.loading_path.c_str(), s);
+    else
+      ImGui::TextColored(ImVec4(1, 0.8f, 0.3f, 1), "loading %s: building the BVH of %zu triangles ... %.1f s",
+                         st.loading_path.c_str(), lp.triangles.load(), s);
+    ImGui::TextDisabled("the current scene stays live meanwhile");
+  }
   if (st.render_scene) {
     const TraceGeometry& t = st.render_scene->trace();
     ImGui::Text("triangles %u  spheres %zu  lights %zu", st.render_scene->triangle_count(), st.render_scene->geo->spheres.size(),
-                st.render_scene->lights.lights.size());
+                st.lights.size());
     ImGui::Text("BVH8 nodes %zu  blocks %zu  build %.1f ms", t.triangles.node_count, t.triangles.block_count,
                 t.stats.build_ms);
   }
@@ -148,9 +181,10 @@ void scene_panel(ViewerState& st, PanelState& ps) {
 }
 
 void display_panel(ViewerState& st) {
-  ImGui::SliderFloat("exposure", &st.display.exposure, -8.0f, 8.0f, "%.2f stops");
-  int tm = int(st.display.tonemap);
-  if (ImGui::Combo("tonemap", &tm, "clamp\0Reinhard\0ACES\0")) st.display.tonemap = Tonemap(tm);
+  DisplaySettings d = st.display;
+  bool changed = ImGui::SliderFloat("exposure", &d.exposure, -8.0f, 8.0f, "%.2f stops");
+  changed |= name_combo<Tonemap>("tonemap", kTonemapNames, d.tonemap);
+  if (changed) st.apply(DisplayEdit{d});
 }
 
 void stats_panel(const ViewerState& st) {
@@ -184,7 +218,7 @@ void draw_panels(ViewerState& st, PanelState& ps, float width, float height) {
   }
   if (ImGui::CollapsingHeader("Material", ImGuiTreeNodeFlags_DefaultOpen)) material_panel(st);
   if (ImGui::CollapsingHeader("Light", ImGuiTreeNodeFlags_DefaultOpen)) light_panel(st);
-  if (ImGui::CollapsingHeader("Scene")) scene_panel(st, ps);
+  if (ImGui::CollapsingHeader("Scene", st.loading.valid() ? ImGuiTreeNodeFlags_DefaultOpen : 0)) scene_panel(st, ps);
   if (ImGui::CollapsingHeader("Display", ImGuiTreeNodeFlags_DefaultOpen)) display_panel(st);
   if (ImGui::CollapsingHeader("Stats", ImGuiTreeNodeFlags_DefaultOpen)) stats_panel(st);
   ImGui::PopItemWidth();

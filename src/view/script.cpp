@@ -1,9 +1,13 @@
 #include "view/script.h"
 
 #include <cmath>
+#include <cstdio>
 #include <fstream>
-#include <map>
 #include <sstream>
+
+#include "render/names.h"
+#include "view/camera_control.h"
+#include "view/viewer_state.h"
 
 namespace pt {
 
@@ -16,22 +20,237 @@ bool is_number(const std::string& s) {
   return end == s.c_str() + s.size() && std::isfinite(v);
 }
 
+float num(const ScriptCommand& c, size_t i) { return std::stof(c.args[i]); }
+
+void fail(ScriptRun& r, const ScriptCommand& c, const std::string& why) {
+  std::fprintf(stderr, "ptview: %s:%d: %s\n", r.file.c_str(), c.line, why.c_str());
+  ++r.failures;
+}
+
+std::string check_none(const std::vector<std::string>&) { return {}; }
+
+std::string check_count(const std::vector<std::string>& a) {
+  double v = std::strtod(a[0].c_str(), nullptr);
+  return v >= 0 && v == std::floor(v) && v <= 1e9 ? "" : "'" + a[0] + "' is not a non-negative integer";
+}
+
+std::string check_positive(const std::vector<std::string>& a) {
+  for (const std::string& s : a)
+    if (!(std::strtod(s.c_str(), nullptr) > 0)) return "'" + s + "' is not positive";
+  return {};
+}
+
+/// "r,g,b" or "x" values of a key=value argument.
+bool parse_values(const std::string& s, std::vector<float>& out) {
+  std::stringstream in(s);
+  for (std::string part; std::getline(in, part, ',');) {
+    if (!is_number(part)) return false;
+    out.push_back(std::stof(part));
+  }
+  return !s.empty() && s.back() != ',';
+}
+
+std::string check_material(const std::vector<std::string>& a) {
+  if (!value_of<MaterialType>(kMaterialTypeNames, a[0]))
+    return "unknown material type '" + a[0] + "' (expected " + names_list<MaterialType>(kMaterialTypeNames) + ")";
+  for (size_t k = 1; k < a.size(); ++k) {
+    size_t eq = a[k].find('=');
+    std::string key = a[k].substr(0, eq);
+    if (eq == std::string::npos || (key != "albedo" && key != "ior" && key != "emission"))
+      return "expected albedo=r,g,b, ior=x or emission=r,g,b, got '" + a[k] + "'";
+    std::vector<float> v;
+    if (!parse_values(a[k].substr(eq + 1), v)) return "'" + a[k] + "': not a list of numbers";
+    if (v.size() != (key == "ior" ? 1u : 3u)) return "'" + a[k] + "': wrong number of values";
+  }
+  return {};
+}
+
+std::string check_tonemap(const std::vector<std::string>& a) {
+  return value_of<Tonemap>(kTonemapNames, a[0]) ? ""
+                                                : "unknown tonemap '" + a[0] + "' (expected " +
+                                                      names_list<Tonemap>(kTonemapNames) + ")";
+}
+
+/// The camera commands: a copy of the camera moved, applied as a CameraEdit.
+template <class F>
+ScriptStep move_camera(ViewerState& st, F&& f) {
+  Camera cam = st.scene.camera.value_or(Camera{});
+  f(cam);
+  st.apply(CameraEdit{cam});
+  return ScriptStep::done;
+}
+
+/// The light the light-* commands act on: the selection, else the first light.
+int target_light(ScriptRun& r, ViewerState& st, const ScriptCommand& c) {
+  if (st.lights.empty()) {
+    fail(r, c, c.name + ": the scene has no light");
+    return -1;
+  }
+  if (st.selected_light < 0) st.selected_light = 0;
+  return st.selected_light;
+}
+
+const ScriptCommandSpec kCommands[] = {
+    {"orbit", "DX DY", 2, 2, true, check_none,
+     [](ScriptRun&, ViewerState& st, const ScriptCommand& c) {
+       return move_camera(st, [&](Camera& cam) { orbit_camera(cam, num(c, 0), num(c, 1)); });
+     }},
+    {"pan", "DX DY", 2, 2, true, check_none,
+     [](ScriptRun&, ViewerState& st, const ScriptCommand& c) {
+       return move_camera(st, [&](Camera& cam) { pan_camera(cam, num(c, 0), num(c, 1)); });
+     }},
+    {"dolly", "F", 1, 1, true, check_positive,
+     [](ScriptRun&, ViewerState& st, const ScriptCommand& c) {
+       return move_camera(st, [&](Camera& cam) { dolly_camera(cam, num(c, 0)); });
+     }},
+    {"pick", "X Y", 2, 2, true, check_none,
+     [](ScriptRun& r, ViewerState& st, const ScriptCommand& c) {
+       if (!st.select_at(int(num(c, 0)), int(num(c, 1)))) fail(r, c, "pick: no object under that pixel");
+       return ScriptStep::done;
+     }},
+    {"set-material", "TYPE [albedo=r,g,b] [ior=x] [emission=r,g,b]", 1, 4, false, check_material,
+     [](ScriptRun& r, ViewerState& st, const ScriptCommand& c) {
+       if (st.selected_material < 0) {
+         fail(r, c, "set-material: nothing picked");
+         return ScriptStep::done;
+       }
+       Material m = st.scene.materials[size_t(st.selected_material)];
+       m.type = *value_of<MaterialType>(kMaterialTypeNames, c.args[0]);
+       for (size_t k = 1; k < c.args.size(); ++k) {
+         size_t eq = c.args[k].find('=');
+         std::string key = c.args[k].substr(0, eq);
+         std::vector<float> v;
+         parse_values(c.args[k].substr(eq + 1), v);
+         if (key == "ior") m.ior = v[0];
+         else if (key == "albedo") m.albedo = vec3(v[0], v[1], v[2]);
+         else m.emission = vec3(v[0], v[1], v[2]);
+       }
+       st.apply(MaterialEdit{st.selected_material, m});
+       return ScriptStep::done;
+     }},
+    {"light", "N", 1, 1, true, check_count,
+     [](ScriptRun& r, ViewerState& st, const ScriptCommand& c) {
+       int n = int(num(c, 0));
+       if (n >= int(st.lights.size())) fail(r, c, "light: the scene has " + std::to_string(st.lights.size()) + " light(s)");
+       else st.selected_light = n;
+       return ScriptStep::done;
+     }},
+    {"light-size", "W H", 2, 2, true, check_positive,
+     [](ScriptRun& r, ViewerState& st, const ScriptCommand& c) {
+       int l = target_light(r, st, c);
+       if (l >= 0 && st.apply(LightShapeEdit{l, {}, vec2(num(c, 0), num(c, 1)), {}}) == Tier::none)
+         fail(r, c, "light-size: light " + std::to_string(l) + " has no W x H (a sphere: use light-scale)");
+       return ScriptStep::done;
+     }},
+    {"light-scale", "S", 1, 1, true, check_positive,
+     [](ScriptRun& r, ViewerState& st, const ScriptCommand& c) {
+       int l = target_light(r, st, c);
+       if (l >= 0) st.apply(LightShapeEdit{l, {}, {}, num(c, 0)});
+       return ScriptStep::done;
+     }},
+    {"light-position", "X Y Z", 3, 3, true, check_none,
+     [](ScriptRun& r, ViewerState& st, const ScriptCommand& c) {
+       int l = target_light(r, st, c);
+       if (l >= 0) st.apply(LightShapeEdit{l, vec3(num(c, 0), num(c, 1), num(c, 2)), {}, {}});
+       return ScriptStep::done;
+     }},
+    {"light-intensity", "S", 1, 1, true, check_none,
+     [](ScriptRun& r, ViewerState& st, const ScriptCommand& c) {
+       int l = target_light(r, st, c);
+       if (l < 0) return ScriptStep::done;
+       vec3 e = st.scene.materials[st.lights[size_t(l)].material].emission;
+       float i = max_component(e);
+       st.apply(LightEmissionEdit{l, i > 0 ? e / i : vec3(1.0f), i * num(c, 0)});
+       return ScriptStep::done;
+     }},
+    {"exposure", "STOPS", 1, 1, true, check_none,
+     [](ScriptRun&, ViewerState& st, const ScriptCommand& c) {
+       DisplaySettings d = st.display;
+       d.exposure = num(c, 0);
+       st.apply(DisplayEdit{d});
+       return ScriptStep::done;
+     }},
+    {"tonemap", "clamp|reinhard|aces", 1, 1, false, check_tonemap,
+     [](ScriptRun&, ViewerState& st, const ScriptCommand& c) {
+       DisplaySettings d = st.display;
+       d.tonemap = *value_of<Tonemap>(kTonemapNames, c.args[0]);
+       st.apply(DisplayEdit{d});
+       return ScriptStep::done;
+     }},
+    {"load", "PATH", 1, 1, false, check_none,
+     [](ScriptRun&, ViewerState& st, const ScriptCommand& c) {
+       st.start_load(c.args[0]);
+       return ScriptStep::done;
+     }},
+    {"wait-frames", "N", 1, 1, true, check_count,
+     [](ScriptRun&, ViewerState& st, const ScriptCommand& c) {
+       bool ready = !st.loading.valid() && st.session && st.frame.epoch == st.session->epoch() &&
+                    st.frame.frames >= int(num(c, 0));
+       return ready ? ScriptStep::done : ScriptStep::wait;
+     }},
+    {"wait-ms", "N", 1, 1, true, check_count,
+     [](ScriptRun& r, ViewerState&, const ScriptCommand& c) {
+       auto now = std::chrono::steady_clock::now();
+       if (!r.waiting_ms) {
+         r.waiting_ms = true;
+         r.wait_until = now + std::chrono::milliseconds(int64_t(num(c, 0)));
+       }
+       if (now < r.wait_until) return ScriptStep::wait;
+       r.waiting_ms = false;
+       return ScriptStep::done;
+     }},
+    {"screenshot", "PATH", 1, 1, false, check_none,
+     [](ScriptRun& r, ViewerState&, const ScriptCommand& c) {
+       r.screenshot_request = c.args[0];
+       return ScriptStep::end_frame;  // taken at the end of this UI frame
+     }},
+    {"stop-at-spp", "N", 1, 1, true, check_count,
+     [](ScriptRun&, ViewerState& st, const ScriptCommand& c) {
+       st.session->set_target_spp(int(num(c, 0)));  // as the Render panel's "stop at spp"; 0: never stop
+       return ScriptStep::done;
+     }},
+    {"save", "PATH", 1, 1, false, check_none,
+     [](ScriptRun&, ViewerState& st, const ScriptCommand& c) {
+       st.save_current(c.args[0]);
+       return ScriptStep::done;
+     }},
+    {"save-scene", "PATH", 1, 1, false, check_none,
+     [](ScriptRun& r, ViewerState& st, const ScriptCommand& c) {
+       if (auto err = st.save_scene(c.args[0])) fail(r, c, "save-scene: " + err->message);
+       return ScriptStep::done;
+     }},
+    {"expect-restart", "", 0, 0, false, check_none,
+     [](ScriptRun& r, ViewerState& st, const ScriptCommand& c) {
+       if (st.session->epoch() == r.epoch_before_previous) fail(r, c, "expected a restart, the epoch did not change");
+       return ScriptStep::done;
+     }},
+    {"expect-no-restart", "", 0, 0, false, check_none,
+     [](ScriptRun& r, ViewerState& st, const ScriptCommand& c) {
+       if (st.session->epoch() != r.epoch_before_previous) fail(r, c, "expected no restart, but the epoch changed");
+       return ScriptStep::done;
+     }},
+    {"quit", "", 0, 0, false, check_none,
+     [](ScriptRun& r, ViewerState&, const ScriptCommand&) {
+       r.quit = true;
+       return ScriptStep::done;
+     }},
+};
+
+const ScriptCommandSpec* find_command(const std::string& name) {
+  for (const ScriptCommandSpec& s : kCommands)
+    if (name == s.name) return &s;
+  return nullptr;
+}
+
+bool is_wait(const std::string& name) { return name == "wait-frames" || name == "wait-ms"; }
+
 }  // namespace
 
-Result<std::vector<ScriptCommand>> load_script(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) return Error{path + ": cannot open script"};
-  // name -> (min args, max args, all numeric)
-  struct Spec { size_t min, max; bool numeric; };
-  const std::map<std::string, Spec> specs = {
-      {"orbit", {2, 2, true}},         {"pan", {2, 2, true}},          {"dolly", {1, 1, true}},
-      {"pick", {2, 2, true}},          {"set-material", {1, 4, false}}, {"light-size", {2, 2, true}},
-      {"light-intensity", {1, 1, true}}, {"exposure", {1, 1, true}},   {"tonemap", {1, 1, false}},
-      {"load", {1, 1, false}},         {"wait-frames", {1, 1, true}},  {"wait-ms", {1, 1, true}},
-      {"screenshot", {1, 1, false}},   {"save", {1, 1, false}},        {"expect-restart", {0, 0, false}},
-      {"expect-no-restart", {0, 0, false}}, {"quit", {0, 0, false}},
-  };
+std::span<const ScriptCommandSpec> script_commands() { return kCommands; }
+
+Result<std::vector<ScriptCommand>> parse_script(std::string_view text, const std::string& file) {
   std::vector<ScriptCommand> out;
+  std::istringstream in{std::string(text)};
   std::string line;
   int n = 0;
   while (std::getline(in, line)) {
@@ -42,39 +261,48 @@ Result<std::vector<ScriptCommand>> load_script(const std::string& path) {
     c.line = n;
     if (!(words >> c.name)) continue;
     for (std::string w; words >> w;) c.args.push_back(w);
-    auto fail = [&](const std::string& why) { return Error{path + ":" + std::to_string(n) + ": " + why}; };
-    auto it = specs.find(c.name);
-    if (it == specs.end()) return fail("unknown command '" + c.name + "'");
-    const Spec& s = it->second;
-    if (c.args.size() < s.min || c.args.size() > s.max)
-      return fail("'" + c.name + "' takes " + std::to_string(s.min) +
-                  (s.max != s.min ? " to " + std::to_string(s.max) : "") + " argument(s)");
-    if (s.numeric)
+    auto fail_at = [&](const std::string& why) { return Error{file + ":" + std::to_string(n) + ": " + why}; };
+    const ScriptCommandSpec* s = find_command(c.name);
+    if (!s) return fail_at("unknown command '" + c.name + "'");
+    if (c.args.size() < s->min_args || c.args.size() > s->max_args)
+      return fail_at("'" + c.name + "' takes " + std::to_string(s->min_args) +
+                     (s->max_args != s->min_args ? " to " + std::to_string(s->max_args) : "") + " argument(s)" +
+                     (*s->usage ? std::string(": ") + s->name + " " + s->usage : ""));
+    if (s->numeric)
       for (const std::string& a : c.args)
-        if (!is_number(a)) return fail("'" + c.name + "': '" + a + "' is not a number");
-    if (c.name == "set-material") {
-      const std::string& type = c.args[0];
-      if (type != "diffuse" && type != "specular" && type != "glass") return fail("unknown material type '" + type + "'");
-      for (size_t k = 1; k < c.args.size(); ++k) {
-        const std::string& kv = c.args[k];
-        size_t eq = kv.find('=');
-        std::string key = kv.substr(0, eq);
-        if (eq == std::string::npos || (key != "albedo" && key != "ior" && key != "emission"))
-          return fail("expected albedo=r,g,b, ior=x or emission=r,g,b, got '" + kv + "'");
-        std::stringstream vals(kv.substr(eq + 1));
-        int count = 0;
-        for (std::string v; std::getline(vals, v, ',');) {
-          if (!is_number(v)) return fail("'" + kv + "': '" + v + "' is not a number");
-          ++count;
-        }
-        if (count != (key == "ior" ? 1 : 3)) return fail("'" + kv + "': wrong number of values");
-      }
-    }
-    if (c.name == "tonemap" && c.args[0] != "clamp" && c.args[0] != "reinhard" && c.args[0] != "aces")
-      return fail("unknown tonemap '" + c.args[0] + "'");
+        if (!is_number(a)) return fail_at("'" + c.name + "': '" + a + "' is not a number");
+    if (std::string why = s->check(c.args); !why.empty()) return fail_at("'" + c.name + "': " + why);
     out.push_back(std::move(c));
   }
   return out;
+}
+
+Result<std::vector<ScriptCommand>> load_script(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return Error{path + ": cannot open script"};
+  std::stringstream text;
+  text << in.rdbuf();
+  return parse_script(text.str(), path);
+}
+
+void ScriptRun::step(ViewerState& st) {
+  screenshot_request.clear();
+  while (!done()) {
+    const ScriptCommand& c = commands[next];
+    const ScriptCommandSpec& spec = *find_command(c.name);
+    if (!is_wait(c.name)) {
+      epoch_before_previous = epoch_before_current;
+      epoch_before_current = st.session ? st.session->epoch() : 0;
+    }
+    ScriptStep s = spec.run(*this, st, c);
+    if (s == ScriptStep::wait) return;
+    if (is_wait(c.name)) {
+      epoch_before_previous = epoch_before_current;
+      epoch_before_current = st.session ? st.session->epoch() : 0;
+    }
+    ++next;
+    if (s == ScriptStep::end_frame) return;
+  }
 }
 
 }  // namespace pt

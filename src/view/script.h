@@ -1,15 +1,18 @@
 #pragma once
-/// Scripted input for the windowed mode (--script FILE): one command per line, run in order through the same code
-/// paths as mouse, keyboard and panels. Used by the GUI tests and for reproducible demos. Commands:
-///   orbit DX DY | pan DX DY | dolly F | pick X Y | set-material TYPE [albedo=r,g,b] [ior=x] [emission=r,g,b]
-///   light-size W H | light-intensity S | exposure STOPS | tonemap clamp|reinhard|aces | load PATH
-///   wait-frames N | wait-ms N | screenshot PATH | save PATH | expect-restart | expect-no-restart | quit
+/// Scripted input for the windowed mode (--script FILE): one command per line, `#` starts a comment. Every command
+/// is one row of the table in script.cpp (name, arguments, check, run), and runs by producing the same Edit values
+/// as the mouse, keyboard and panels. The README's command table is the only other list.
+#include <chrono>
+#include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "core/result.h"
 
 namespace pt {
+
+struct ViewerState;
 
 struct ScriptCommand {
   int line = 0;
@@ -17,7 +20,42 @@ struct ScriptCommand {
   std::vector<std::string> args;
 };
 
-/// Parses and validates the whole file up front; errors are "FILE:LINE: reason".
+/// Parses and validates a whole script up front; errors are "FILE:LINE: reason".
+Result<std::vector<ScriptCommand>> parse_script(std::string_view text, const std::string& file);
 Result<std::vector<ScriptCommand>> load_script(const std::string& path);
+
+/// A script being run, one UI frame at a time.
+struct ScriptRun {
+  std::string file;
+  std::vector<ScriptCommand> commands;
+  size_t next = 0;
+  uint64_t epoch_before_previous = 0, epoch_before_current = 0;
+  std::chrono::steady_clock::time_point wait_until{};
+  bool waiting_ms = false;
+  int failures = 0;                ///< failed expectations and impossible commands (exit code 3)
+  bool quit = false;
+  std::string screenshot_request;  ///< a window PNG to write at the end of this UI frame
+
+  bool done() const { return next >= commands.size(); }
+  /// Runs commands until one has to wait for frames or time, or asks for a screenshot.
+  void step(ViewerState& st);
+};
+
+/// What a command does when run: finished, or keep its place and try again next UI frame.
+enum class ScriptStep { done, wait, end_frame };
+
+/// One row of the command table.
+struct ScriptCommandSpec {
+  const char* name;
+  const char* usage;  ///< arguments, as in the README
+  size_t min_args, max_args;
+  bool numeric;       ///< every argument must be a finite number
+  /// Extra checks at parse time; returns an error reason or "".
+  std::string (*check)(const std::vector<std::string>& args);
+  /// Runs it; `fail` records a failure (exit code 3) with the command's line.
+  ScriptStep (*run)(ScriptRun& run, ViewerState& st, const ScriptCommand& c);
+};
+
+std::span<const ScriptCommandSpec> script_commands();
 
 }  // namespace pt

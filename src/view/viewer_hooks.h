@@ -11,6 +11,7 @@ struct ViewerHooks {
   std::string script;                    ///< scripted input file (see README)
   std::string stats_json;                ///< stats written at exit
   std::string out;                       ///< default file name for "save image"
+  bool lock_size = false;                ///< --size given: the render size does not follow the window
 };
 
 }  // namespace pt

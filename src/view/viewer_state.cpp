@@ -1,35 +1,164 @@
 #include "view/viewer_state.h"
 
 #include <algorithm>
-#include <nlohmann/json.hpp>
 
 #include "render/camera.h"
-#include "render/trace_stats_json.h"
+#include "render/stats_json.h"
 #include "scene/load.h"
+#include "scene/save_json.h"
 
 namespace pt {
 
+namespace {
+
+/// The one normalization of an edited material (panel and script alike).
+Material normalized(Material m) {
+  m.albedo = m.type == MaterialType::glass ? vec3(1.0f) : glm::clamp(m.albedo, vec3(0.0f), vec3(1.0f));
+  m.emission = glm::max(m.emission, vec3(0.0f));
+  if (!is_finite(m.emission)) m.emission = vec3(0.0f);
+  if (!(m.ior >= 1.0f) || !std::isfinite(m.ior)) m.ior = 1.0f;
+  return m;
+}
+
+bool valid_camera(const Camera& c) {
+  return is_finite(c.eye) && is_finite(c.target) && is_finite(c.up) && glm::length(c.eye - c.target) > 0.0f &&
+         c.fov_deg > 0.0f && c.fov_deg < 180.0f;
+}
+
+double percentile(std::vector<double> v, double q) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  size_t i = std::min(v.size() - 1, size_t(q * double(v.size() - 1) + 0.5));
+  return v[i];
+}
+
+}  // namespace
+
+void ViewerState::init(Scene s, const RenderParams& p, const DisplaySettings& d, int threads) {
+  params = p;
+  display = d;
+  home_camera = s.camera.value_or(Camera{});
+  geo = make_render_geometry(s);
+  ++geometry_builds;
+  scene = std::move(s);
+  loaded_materials = scene.materials;
+  lights = find_scene_lights(scene);
+  render_scene = std::make_shared<RenderScene>(make_render_scene(scene, geo));
+  if (threads >= 0) session = std::make_unique<RenderSession>(threads);
+  restart();
+}
+
 void ViewerState::restart() {
-  auto rs = std::make_shared<RenderScene>(make_render_scene(scene, geo));
-  render_scene = rs;
+  ++restarts;
+  if (!session) return;
   session->set_preview_divisor(preview_div);
-  uint64_t e = session->restart(rs, params);
+  uint64_t e = session->restart(render_scene, params);
   restart_started[e] = Clock::now();
   while (restart_started.size() > 64) restart_started.erase(restart_started.begin());
+}
+
+Tier ViewerState::commit(Tier tier) {
+  switch (tier) {
+    case Tier::none:
+    case Tier::display: return tier;
+    case Tier::camera: {
+      auto rs = std::make_shared<RenderScene>(*render_scene);
+      rs->camera = scene.camera.value_or(Camera{});
+      rs->camera.eye -= geo->origin;
+      rs->camera.target -= geo->origin;
+      render_scene = std::move(rs);
+      break;
+    }
+    case Tier::light_refit:
+      geo = refit_render_geometry(*geo, scene);
+      ++geometry_refits;
+      [[fallthrough]];
+    case Tier::material:
+    case Tier::rebuild: {
+      render_scene = std::make_shared<RenderScene>(make_render_scene(scene, geo));
+      std::vector<SceneLight> found = find_scene_lights(scene);
+      if (tier == Tier::rebuild || found.size() != lights.size()) {
+        lights = std::move(found);
+        if (selected_light >= int(lights.size())) selected_light = -1;
+      }
+      break;
+    }
+  }
+  restart();
+  return tier;
+}
+
+Tier ViewerState::apply(const Edit& edit) {
+  struct V {
+    ViewerState& st;
+    Tier operator()(const CameraEdit& e) const {
+      if (!valid_camera(e.camera)) return Tier::none;
+      st.scene.camera = e.camera;
+      return Tier::camera;
+    }
+    Tier operator()(const RenderParamsEdit& e) const {
+      if (e.params == st.params) return Tier::none;
+      st.params = e.params;
+      return Tier::camera;
+    }
+    Tier operator()(const DisplayEdit& e) const {
+      st.display = e.display;
+      return Tier::display;
+    }
+    Tier operator()(const MaterialEdit& e) const {
+      if (e.index < 0 || size_t(e.index) >= st.scene.materials.size()) return Tier::none;
+      st.scene.materials[size_t(e.index)] = normalized(e.material);
+      return Tier::material;
+    }
+    Tier operator()(const LightShapeEdit& e) const {
+      if (e.light < 0 || size_t(e.light) >= st.lights.size()) return Tier::none;
+      SceneLight& l = st.lights[size_t(e.light)];
+      bool changed = false;
+      if (e.size) changed |= resize_light(st.scene, l, *e.size);
+      if (e.scale) changed |= scale_light(st.scene, l, *e.scale);
+      if (e.center && is_finite(*e.center)) {
+        move_light(st.scene, l, *e.center);
+        changed = true;
+      }
+      return changed ? Tier::light_refit : Tier::none;
+    }
+    Tier operator()(const LightEmissionEdit& e) const {
+      if (e.light < 0 || size_t(e.light) >= st.lights.size()) return Tier::none;
+      Material m = st.scene.materials[st.lights[size_t(e.light)].material];
+      m.emission = glm::max(e.color, vec3(0.0f)) * std::max(e.intensity, 0.0f);
+      st.scene.materials[st.lights[size_t(e.light)].material] = normalized(m);
+      return Tier::material;
+    }
+    Tier operator()(const SceneEdit& e) const {
+      if (!e.loaded) return Tier::none;
+      st.scene = std::move(e.loaded->scene);
+      st.geo = std::move(e.loaded->geo);
+      st.load_ms = e.loaded->load_ms;
+      st.loaded_materials = st.scene.materials;
+      st.home_camera = st.scene.camera.value_or(Camera{});
+      st.selected_material = st.selected_light = -1;
+      ++st.geometry_builds;  // built off the UI thread, by start_load
+      return Tier::rebuild;
+    }
+    Tier operator()(const RestartEdit&) const { return Tier::camera; }
+  };
+  return commit(std::visit(V{*this}, edit));
 }
 
 void ViewerState::start_load(const std::string& path) {
   if (loading.valid()) return;
   loading_path = path;
   status = "loading " + path + " ...";
-  loading = std::async(std::launch::async, [path]() -> Result<LoadedScene> {
-    auto t0 = Clock::now();
+  load_progress = std::make_shared<LoadProgress>();
+  loading = std::async(std::launch::async, [path, progress = load_progress]() -> Result<LoadedScene> {
     Result<Scene> s = load_scene(path);
     if (!s) return Error{s.error()};
+    progress->triangles = s->triangle_count();
+    progress->stage = 1;
     LoadedScene out;
     out.geo = make_render_geometry(*s);
     out.scene = std::move(*s);
-    out.load_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+    out.load_ms = std::chrono::duration<double, std::milli>(Clock::now() - progress->started).count();
     return out;
   });
 }
@@ -37,49 +166,33 @@ void ViewerState::start_load(const std::string& path) {
 bool ViewerState::poll_load() {
   if (!loading.valid() || loading.wait_for(std::chrono::seconds(0)) != std::future_status::ready) return false;
   Result<LoadedScene> r = loading.get();
+  load_progress.reset();
   if (!r) {
     status = r.error();
     return false;
   }
-  scene = std::move(r->scene);
-  geo = std::move(r->geo);
-  load_ms = r->load_ms;
-  home_camera = *scene.camera;
-  selected_material = -1;
   status = "loaded " + loading_path;
-  restart();
+  apply(SceneEdit{std::make_shared<LoadedScene>(std::move(*r))});
   return true;
 }
 
-int ViewerState::pick(int x, int y) const {
-  if (!render_scene) return -1;
+ViewerState::PickResult ViewerState::pick(int x, int y) const {
+  PickResult out;
+  if (!render_scene) return out;
   CameraRig rig = make_camera_rig(render_scene->camera, params.width, params.height);
   Ray ray = generate_camera_ray(rig, x, y, vec2(0.5f));
   Hit hit;
-  if (!intersect_closest(render_scene->trace(), ray, hit)) return -1;
-  const RenderGeometry& g = *render_scene->geo;
-  if (hit.prim < g.triangle_count()) return int(g.tri_material[hit.prim]);
-  return int(g.sphere_material[hit.prim - g.triangle_count()]);
+  if (!intersect_closest(render_scene->trace(), ray, hit)) return out;
+  out.material = int(primitive_material(*render_scene->geo, hit.prim));
+  out.light = light_of_primitive(scene, lights, hit.prim);
+  return out;
 }
 
-int ViewerState::light_quad() const {
-  for (size_t i = 0; i < scene.quads.size(); ++i) {
-    uint32_t m = scene.quads[i].material;
-    if (m < scene.materials.size() && scene.materials[m].emissive()) return int(i);
-  }
-  return -1;
-}
-
-void ViewerState::set_light_size(float width, float height) {
-  int q = light_quad();
-  if (q < 0 || !(width > 0.0f) || !(height > 0.0f)) return;
-  Quad& quad = scene.quads[size_t(q)];
-  vec3 center = quad.corner + 0.5f * (quad.edge1 + quad.edge2);
-  quad.edge1 = glm::normalize(quad.edge1) * width;
-  quad.edge2 = glm::normalize(quad.edge2) * height;
-  quad.corner = center - 0.5f * (quad.edge1 + quad.edge2);
-  geo = update_quads(*geo, scene);
-  restart();
+bool ViewerState::select_at(int x, int y) {
+  PickResult p = pick(x, y);
+  selected_material = p.material;
+  if (p.light >= 0) selected_light = p.light;
+  return p.material >= 0;
 }
 
 void ViewerState::save_current(const std::string& path) {
@@ -88,45 +201,34 @@ void ViewerState::save_current(const std::string& path) {
   status = "saving " + path;
 }
 
-namespace {
-double percentile(std::vector<double> v, double q) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  size_t i = std::min(v.size() - 1, size_t(q * double(v.size() - 1) + 0.5));
-  return v[i];
+std::optional<Error> ViewerState::save_scene(const std::string& path) {
+  std::optional<Error> err = save_scene_json(scene, loaded_materials, path);
+  status = err ? err->message : "saved " + path;
+  return err;
 }
-}  // namespace
 
 std::string ViewerState::stats_json() const {
-  const RenderCounters& c = frame.counters;
   double elapsed = std::chrono::duration<double>(Clock::now() - start_time).count();
-  nlohmann::json j;
-  j["scene"] = scene.source;
-  j["width"] = frame.width;
-  j["height"] = frame.height;
-  j["frames"] = frame.frames;
-  j["spp"] = frame.spp;
-  j["seconds"] = frame.seconds;
-  j["rays"] = c.rays();
-  j["mrays_per_s"] = frame.seconds > 0 ? double(c.rays()) / frame.seconds * 1e-6 : 0.0;
-  j["spp_per_s"] = frame.seconds > 0 ? frame.spp / frame.seconds : 0.0;
-  j["nonfinite_samples"] = c.nonfinite_samples;
-  j["epoch"] = frame.epoch;
-  j["threads"] = session ? session->thread_count() : 0;
-  if (render_scene) {
-    const TraceGeometry& t = render_scene->trace();
-    j["triangles"] = render_scene->triangle_count();
-    j["bvh"] = trace_stats_json(t);
-  }
-  j["skipped"] = nlohmann::json::object();
-  for (const auto& [name, count] : skipped_work(c)) j["skipped"][name] = count;
+  RunSummary run;
+  run.frames = frame.frames;
+  run.spp = frame.spp;
+  run.seconds = frame.seconds;
+  run.load_ms = load_ms;
+  run.counters = frame.counters;
+  run.threads = session ? session->thread_count() : 0;
+  run.epoch = frame.epoch;
+  RenderParams shown = params;
+  shown.width = frame.width;
+  shown.height = frame.height;
+  nlohmann::json j = make_stats_json(shown, scene, *render_scene, run);
   j["restart_latency_ms"] = {{"p50", percentile(restart_latency_ms, 0.5)},
                              {"p95", percentile(restart_latency_ms, 0.95)},
                              {"count", restart_latency_ms.size()}};
   j["ui_fps"] = elapsed > 0 ? double(ui_frames) / elapsed : 0.0;
   j["ui_frames"] = ui_frames;
-  j["load_ms"] = load_ms;
-  j["warnings"] = scene.warnings;
+  j["restarts"] = restarts;
+  j["geometry_builds"] = geometry_builds;
+  j["geometry_refits"] = geometry_refits;
   return j.dump(2) + "\n";
 }
 

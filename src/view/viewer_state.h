@@ -1,5 +1,7 @@
 #pragma once
-/// The viewer's state and actions, independent of how they are triggered (mouse, keys, panels, script).
+/// The viewer's state and the one function that changes it, apply(Edit), independent of how an edit was made
+/// (mouse, keys, panels, script). No GL or window here: the tier tests drive it directly.
+#include <atomic>
 #include <chrono>
 #include <future>
 #include <map>
@@ -9,34 +11,48 @@
 
 #include "render/render_scene.h"
 #include "render/session.h"
+#include "scene/scene_lights.h"
+#include "view/edit.h"
 #include "view/viewer_hooks.h"
 
 namespace pt {
 
 using Clock = std::chrono::steady_clock;
 
-/// A scene being loaded on a background thread: parsed and with its BVH built, ready to swap in.
+/// A scene loaded on a background thread: parsed and with its BVH built, ready to swap in.
 struct LoadedScene {
   Scene scene;
   std::shared_ptr<const RenderGeometry> geo;
   double load_ms = 0.0;
 };
 
-/// Everything an edit touches. Restart tiers: display settings never restart; camera, material and light edits
-/// restart accumulation over the same geometry (light edits refit it); loading builds new geometry off-thread.
+/// How far a background load got, for the Scene panel.
+struct LoadProgress {
+  std::atomic<int> stage{0};  ///< 0 parsing, 1 building the BVH
+  std::atomic<size_t> triangles{0};
+  Clock::time_point started = Clock::now();
+};
+
 struct ViewerState {
   RenderParams params;         ///< full-resolution parameters
   DisplaySettings display;
-  ViewerHooks hooks;
   Scene scene;
   Camera home_camera;
   std::shared_ptr<const RenderGeometry> geo;
-  std::shared_ptr<const RenderScene> render_scene;  ///< the one being rendered (for picking)
-  std::unique_ptr<RenderSession> session;
+  std::shared_ptr<const RenderScene> render_scene;  ///< the one being rendered (picking reads it)
+  std::unique_ptr<RenderSession> session;           ///< null in tests that only check tiers
   SessionFrame frame;          ///< latest frame shown
+  std::vector<SceneLight> lights;  ///< find_scene_lights(scene), kept stable between material edits
+  std::vector<Material> loaded_materials;  ///< as loaded: a saved scene names a mesh's file while they are unedited
   int selected_material = -1;
+  int selected_light = -1;
   int preview_div = 4;         ///< first frame of every restart at this fraction of the resolution
   double full_res_frame_seconds = 0.0;
+
+  // What the edits cost, counted (the tier tests read these).
+  int geometry_builds = 0;
+  int geometry_refits = 0;
+  int restarts = 0;
 
   // Measurements.
   std::map<uint64_t, Clock::time_point> restart_started;  ///< epoch -> time of the edit
@@ -47,26 +63,40 @@ struct ViewerState {
 
   // Background work.
   std::future<Result<LoadedScene>> loading;
+  std::shared_ptr<LoadProgress> load_progress;
   std::string loading_path;
   std::string status;          ///< last message shown in the Scene panel
   std::vector<std::future<std::optional<Error>>> saves;
 
-  /// Restarts accumulation with the current scene, camera, materials and parameters. The session shows a
-  /// reduced-resolution first frame at once, so a camera drag (one restart per UI frame) stays fluid.
-  void restart();
-  /// Starts loading a scene file in the background; the current scene stays interactive.
+  /// Installs `scene` (finalized) and builds its geometry on this thread; with `threads` >= 0 also starts a render
+  /// session (tests without rendering pass -1).
+  void init(Scene scene, const RenderParams& params, const DisplaySettings& display, int threads);
+
+  /// Applies an edit: the one place that chooses and performs the restart tier. Returns the tier performed (none
+  /// when the edit was rejected or changed nothing).
+  Tier apply(const Edit& edit);
+
+  /// Starts loading a scene file in the background; the current scene stays live until it is ready.
   void start_load(const std::string& path);
-  /// Swaps in a finished load, if any. Returns true if a new scene was installed.
+  /// Applies a finished load, if any (a SceneEdit). Returns true if a new scene was installed.
   bool poll_load();
-  /// Material index of the object seen through full-resolution pixel (x, y), or -1.
-  int pick(int x, int y) const;
-  /// Index of the quad used as "the" rectangle light (the first emissive quad), or -1.
-  int light_quad() const;
-  /// Resizes the rectangle light about its center (refit, no rebuild) and restarts.
-  void set_light_size(float width, float height);
+  /// Object under full-resolution pixel (x, y): its material, and the light it belongs to (or -1).
+  struct PickResult {
+    int material = -1;
+    int light = -1;
+  };
+  PickResult pick(int x, int y) const;
+  /// Selects what `pick` found: its material, and the light if it is one.
+  bool select_at(int x, int y);
   /// Saves the current mean on a background thread.
   void save_current(const std::string& path);
+  /// Writes the scene as shown (camera, edited materials and lights, meshes) as a version-1 JSON, atomically.
+  std::optional<Error> save_scene(const std::string& path);
   std::string stats_json() const;
+
+ private:
+  void restart();
+  Tier commit(Tier tier);
 };
 
 }  // namespace pt

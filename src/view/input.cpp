@@ -1,0 +1,88 @@
+#include "view/input.h"
+
+#include <GLFW/glfw3.h>
+
+#include <cmath>
+
+#include "view/camera_control.h"
+
+namespace pt {
+
+bool process_input(GLFWwindow* window, InputState& in, ViewerState& st, const ImageArea& area, double dt,
+                   bool ui_mouse, bool ui_keyboard) {
+  for (const std::string& path : in.dropped) st.start_load(path);
+  in.dropped.clear();
+  int ww, wh;
+  glfwGetWindowSize(window, &ww, &wh);
+  double mx, my;
+  glfwGetCursorPos(window, &mx, &my);
+  const bool in_image = !ui_mouse && mx * area.to_fb >= area.panel_px;
+  Camera cam = st.scene.camera.value_or(Camera{});
+  bool camera_moved = false, picked = false;
+  for (int b = 0; b < 3; ++b) {
+    bool down = glfwGetMouseButton(window, b) == GLFW_PRESS;
+    if (down && !in.dragging[b] && in_image) {
+      in.dragging[b] = true;
+      in.press_x = in.last_x = mx;
+      in.press_y = in.last_y = my;
+      in.drag_moved = false;
+    } else if (!down && in.dragging[b]) {
+      in.dragging[b] = false;
+      if (b == 0 && !in.drag_moved) {
+        // Window point -> framebuffer -> render pixel.
+        const Rect& r = area.rect;
+        double px = (mx * area.to_fb - r.x) / r.w * st.params.width;
+        double py = (my * area.to_fb - (area.fb_height - r.y - r.h)) / r.h * st.params.height;
+        if (px >= 0 && py >= 0 && px < st.params.width && py < st.params.height) {
+          st.select_at(int(px), int(py));
+          picked = true;
+        }
+      }
+    }
+  }
+  if (in.dragging[0] || in.dragging[1] || in.dragging[2]) {
+    double dx = mx - in.last_x, dy = my - in.last_y;
+    if (std::abs(mx - in.press_x) + std::abs(my - in.press_y) > 3) in.drag_moved = true;
+    if (in.drag_moved && (dx != 0 || dy != 0)) {
+      if (in.dragging[0]) orbit_camera(cam, float(-dx * 0.3), float(dy * 0.3));
+      else pan_camera(cam, float(dx / std::max(1, wh)), float(dy / std::max(1, wh)));
+      camera_moved = true;
+    }
+    in.last_x = mx;
+    in.last_y = my;
+  }
+  if (in.scroll != 0.0 && !ui_mouse) {
+    dolly_camera(cam, float(std::pow(0.9, in.scroll)));
+    camera_moved = true;
+  }
+  in.scroll = 0.0;
+  if (!ui_keyboard) {
+    float speed = float(dt) * 0.5f * std::max(1e-3f, glm::length(cam.target - cam.eye));
+    vec3 move(0.0f);
+    if (glfwGetKey(window, GLFW_KEY_W) == GLFW_PRESS) move.z += speed;
+    if (glfwGetKey(window, GLFW_KEY_S) == GLFW_PRESS) move.z -= speed;
+    if (glfwGetKey(window, GLFW_KEY_D) == GLFW_PRESS) move.x += speed;
+    if (glfwGetKey(window, GLFW_KEY_A) == GLFW_PRESS) move.x -= speed;
+    if (glfwGetKey(window, GLFW_KEY_E) == GLFW_PRESS) move.y += speed;
+    if (glfwGetKey(window, GLFW_KEY_Q) == GLFW_PRESS) move.y -= speed;
+    if (move != vec3(0.0f)) {
+      fly_camera(cam, move);
+      camera_moved = true;
+    }
+    bool r_down = glfwGetKey(window, GLFW_KEY_R) == GLFW_PRESS, f_down = glfwGetKey(window, GLFW_KEY_F) == GLFW_PRESS;
+    if (r_down && !in.r_was_down) {
+      cam = st.home_camera;
+      camera_moved = true;
+    }
+    if (f_down && !in.f_was_down) {
+      cam = framing_camera(st.scene.bounds());
+      camera_moved = true;
+    }
+    in.r_was_down = r_down;
+    in.f_was_down = f_down;
+  }
+  if (camera_moved) st.apply(CameraEdit{cam});
+  return picked;
+}
+
+}  // namespace pt

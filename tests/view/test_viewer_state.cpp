@@ -1,0 +1,360 @@
+// The viewer's edit path without a window: which restart tier every kind of Edit takes, what it costs (BVH builds
+// and refits counted), the preview frame after a restart, the old scene staying live during a load, the light
+// model (which lights, their placement, resizing), and parse_script on every malformed form.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <thread>
+
+#include "scene/builtin_assets.h"
+#include "scene/load.h"
+#include "view/script.h"
+#include "view/viewer_state.h"
+
+namespace pt {
+namespace {
+
+namespace fs = std::filesystem;
+
+RenderParams small_params() {
+  RenderParams p;
+  p.width = 32;
+  p.height = 24;
+  p.max_depth = 4;
+  p.threads = 1;
+  return p;
+}
+
+Scene builtin(std::string_view name) {
+  Result<Scene> s = load_builtin_scene(name);
+  EXPECT_TRUE(s.ok()) << name;
+  return std::move(*s);
+}
+
+/// A 1 x 1 x 1 room (floor and ceiling) whose ceiling light is two emissive triangles sharing two ceiling vertices,
+/// like the public Cornell box OBJ: the light is 0.4 (x) by 0.2 (z) about (0.5, 1, 0.5).
+std::string write_two_triangle_light_obj(const fs::path& dir) {
+  std::ofstream(dir / "room.mtl") << "newmtl white\nKd 0.7 0.7 0.7\nnewmtl light\nKd 0.5 0.5 0.5\nKe 10 10 10\n";
+  std::ofstream obj(dir / "room.obj");
+  obj << "mtllib room.mtl\n"
+         "v 0 0 0\nv 1 0 0\nv 1 0 1\nv 0 0 1\n"              // 1-4 floor
+         "v 0 1 0\nv 1 1 0\nv 1 1 1\nv 0 1 1\n"              // 5-8 ceiling corners
+         "v 0.3 1 0.4\nv 0.7 1 0.4\nv 0.7 1 0.6\nv 0.3 1 0.6\n"  // 9-12 light corners
+         "usemtl white\nf 1 3 2\nf 1 4 3\nf 5 6 10\nf 5 10 9\n"   // floor; a ceiling strip sharing light vertices
+         "usemtl light\nf 9 10 11\nf 9 11 12\n";                  // facing down
+  return (dir / "room.obj").string();
+}
+
+struct TempDir {
+  fs::path path;
+  TempDir() {
+    path = fs::temp_directory_path() / ("ptview-state-" + std::to_string(::getpid()) + "-" + std::to_string(counter()++));
+    fs::create_directories(path);
+  }
+  ~TempDir() { fs::remove_all(path); }
+  static int& counter() {
+    static int c = 0;
+    return c;
+  }
+};
+
+TEST(Tiers, EveryEditKindTakesItsTierAndCostsWhatItShould) {
+  ViewerState st;
+  st.init(builtin("cornell"), small_params(), {}, -1);
+  ASSERT_EQ(st.geometry_builds, 1);
+  const int restarts0 = st.restarts;
+  auto geo0 = st.geo;
+
+  DisplaySettings d;
+  d.exposure = 1.5f;
+  EXPECT_EQ(st.apply(DisplayEdit{d}), Tier::display);
+  EXPECT_EQ(st.restarts, restarts0) << "a display edit must not restart";
+  EXPECT_EQ(st.display.exposure, 1.5f);
+
+  Camera cam = *st.scene.camera;
+  cam.eye.x += 0.3f;
+  auto rs_before = st.render_scene;
+  EXPECT_EQ(st.apply(CameraEdit{cam}), Tier::camera);
+  EXPECT_EQ(st.restarts, restarts0 + 1);
+  EXPECT_EQ(st.geo, geo0) << "a camera edit keeps the geometry";
+  EXPECT_NE(st.render_scene, rs_before);
+  EXPECT_FLOAT_EQ(st.render_scene->camera.eye.x + st.geo->origin.x, cam.eye.x);
+
+  RenderParams p = st.params;
+  EXPECT_EQ(st.apply(RenderParamsEdit{p}), Tier::none) << "unchanged parameters";
+  p.max_depth = 7;
+  EXPECT_EQ(st.apply(RenderParamsEdit{p}), Tier::camera);
+  EXPECT_EQ(st.params.max_depth, 7);
+
+  Material m = st.scene.materials[0];
+  m.albedo = vec3(2.0f, 0.5f, -1.0f);
+  EXPECT_EQ(st.apply(MaterialEdit{0, m}), Tier::material);
+  EXPECT_EQ(st.scene.materials[0].albedo, vec3(1.0f, 0.5f, 0.0f)) << "clamped in one place";
+  m.type = MaterialType::glass;
+  st.apply(MaterialEdit{0, m});
+  EXPECT_EQ(st.scene.materials[0].albedo, vec3(1.0f)) << "glass albedo is 1";
+  EXPECT_EQ(st.geo, geo0) << "a material edit keeps the geometry";
+
+  ASSERT_EQ(st.lights.size(), 1u);
+  const size_t nodes = st.geo->trace.triangles.node_count;
+  EXPECT_EQ(st.apply(LightShapeEdit{0, {}, vec2(0.2f, 0.1f), {}}), Tier::light_refit);
+  EXPECT_EQ(st.apply(LightShapeEdit{0, {}, {}, 1.5f}), Tier::light_refit);
+  EXPECT_EQ(st.apply(LightShapeEdit{0, vec3(0.1f, 1.95f, 0.0f), {}, {}}), Tier::light_refit);
+  EXPECT_EQ(st.geometry_builds, 1) << "light edits never rebuild";
+  EXPECT_EQ(st.geometry_refits, 3);
+  EXPECT_NE(st.geo, geo0);
+  EXPECT_EQ(st.geo->trace.triangles.node_count, nodes) << "a refit keeps the tree";
+  LightPlacement pl = light_placement(st.scene, st.lights[0]);
+  EXPECT_NEAR(pl.size.x, 0.3f, 1e-5f);
+  EXPECT_NEAR(pl.size.y, 0.15f, 1e-5f);
+  EXPECT_NEAR(pl.center.x, 0.1f, 1e-5f);
+
+  EXPECT_EQ(st.apply(LightEmissionEdit{0, vec3(1.0f, 0.5f, 0.25f), 4.0f}), Tier::material);
+  EXPECT_EQ(st.scene.materials[st.lights[0].material].emission, vec3(4.0f, 2.0f, 1.0f));
+  EXPECT_EQ(st.geometry_refits, 3) << "colour and intensity need no refit";
+
+  auto loaded = std::make_shared<LoadedScene>();
+  loaded->scene = builtin("cornell-spheres");
+  loaded->geo = make_render_geometry(loaded->scene);
+  EXPECT_EQ(st.apply(SceneEdit{loaded}), Tier::rebuild);
+  EXPECT_EQ(st.geometry_builds, 2);
+  EXPECT_EQ(st.scene.source, "builtin:cornell-spheres");
+
+  // Rejected edits do nothing.
+  const int restarts = st.restarts;
+  EXPECT_EQ(st.apply(LightShapeEdit{99, {}, vec2(1.0f), {}}), Tier::none);
+  EXPECT_EQ(st.apply(MaterialEdit{-1, {}}), Tier::none);
+  Camera degenerate = *st.scene.camera;
+  degenerate.eye = degenerate.target;
+  EXPECT_EQ(st.apply(CameraEdit{degenerate}), Tier::none);
+  EXPECT_EQ(st.restarts, restarts);
+}
+
+TEST(Tiers, TierOfAgreesWithApplyForEveryKind) {
+  EXPECT_EQ(tier_of(DisplayEdit{}), Tier::display);
+  EXPECT_EQ(tier_of(CameraEdit{}), Tier::camera);
+  EXPECT_EQ(tier_of(RenderParamsEdit{}), Tier::camera);
+  EXPECT_EQ(tier_of(RestartEdit{}), Tier::camera);
+  EXPECT_EQ(tier_of(MaterialEdit{}), Tier::material);
+  EXPECT_EQ(tier_of(LightEmissionEdit{}), Tier::material);
+  EXPECT_EQ(tier_of(LightShapeEdit{}), Tier::light_refit);
+  EXPECT_EQ(tier_of(SceneEdit{}), Tier::rebuild);
+}
+
+/// Waits for a frame of the session's current epoch (generous deadline: a hang, not slowness, fails).
+bool fetch_current(ViewerState& st) {
+  for (int i = 0; i < 6000; ++i) {
+    if (st.session->fetch(st.frame) && st.frame.epoch == st.session->epoch()) return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  return false;
+}
+
+TEST(Tiers, EveryRestartShowsAReducedResolutionPreviewFirst) {
+  ViewerState st;
+  RenderParams p = small_params();
+  p.width = 64;
+  p.height = 48;
+  st.preview_div = 4;
+  st.init(builtin("cornell"), p, {}, 1);
+  st.session->set_paused(true);  // paused: the driver renders a restart's preview, then waits
+  Camera cam = *st.scene.camera;
+  for (int k = 0; k < 3; ++k) {
+    cam.eye.x += 0.1f;
+    ASSERT_EQ(st.apply(CameraEdit{cam}), Tier::camera);
+    ASSERT_TRUE(fetch_current(st));
+    EXPECT_TRUE(st.frame.preview) << "restart " << k;
+    EXPECT_EQ(st.frame.width, 16);
+    EXPECT_EQ(st.frame.height, 12);
+    EXPECT_EQ(st.frame.frames, 0);
+  }
+}
+
+TEST(Tiers, TheOldSceneStaysLiveWhileALoadRuns) {
+  TempDir dir;
+  std::string obj = write_two_triangle_light_obj(dir.path);
+  ViewerState st;
+  st.init(builtin("cornell"), small_params(), {}, 1);
+  ASSERT_TRUE(fetch_current(st));
+  const uint64_t epoch = st.session->epoch();
+  auto rs = st.render_scene;
+  st.start_load(obj);
+  ASSERT_TRUE(st.loading.valid());
+  // The load runs in the background; until poll_load installs it, the old scene renders on, frame after frame.
+  st.loading.wait();
+  EXPECT_EQ(st.render_scene, rs);
+  EXPECT_EQ(st.session->epoch(), epoch);
+  int frames = st.frame.frames;
+  for (int i = 0; i < 6000 && st.frame.frames <= frames + 1; ++i) {
+    st.session->fetch(st.frame);
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  EXPECT_GT(st.frame.frames, frames + 1);
+  EXPECT_EQ(st.frame.epoch, epoch);
+  EXPECT_TRUE(st.poll_load());
+  EXPECT_NE(st.session->epoch(), epoch);
+  EXPECT_EQ(st.scene.source, obj);
+  EXPECT_EQ(st.geometry_builds, 2);
+}
+
+TEST(SceneLights, TwoEmissiveTrianglesAreOneLightResizedInTheirPlane) {
+  TempDir dir;
+  Result<Scene> s = load_scene(write_two_triangle_light_obj(dir.path));
+  ASSERT_TRUE(s.ok()) << s.error();
+  ViewerState st;
+  st.init(std::move(*s), small_params(), {}, -1);
+  ASSERT_EQ(st.lights.size(), 1u);
+  EXPECT_EQ(st.lights[0].kind, SceneLightKind::triangles);
+  EXPECT_EQ(st.lights[0].triangles.size(), 2u);
+  LightPlacement pl = light_placement(st.scene, st.lights[0]);
+  EXPECT_NEAR(pl.center.x, 0.5f, 1e-6f);
+  EXPECT_NEAR(pl.center.y, 1.0f, 1e-6f);
+  EXPECT_NEAR(pl.center.z, 0.5f, 1e-6f);
+  EXPECT_NEAR(pl.size.x, 0.4f, 1e-6f);  // the first boundary edge runs along x
+  EXPECT_NEAR(pl.size.y, 0.2f, 1e-6f);
+  // Corners of the non-emissive triangles (the floor, and the ceiling strip sharing two of the light's corners).
+  auto other_corners = [&] {
+    std::vector<vec3> out;
+    const Mesh& m = st.scene.meshes[0];
+    for (size_t t = 0; t < m.indices.size(); ++t)
+      if (!st.scene.materials[m.materials[t]].emissive())
+        for (int k = 0; k < 3; ++k) out.push_back(m.positions[m.indices[t][k]]);
+    return out;
+  };
+  const std::vector<vec3> others_before = other_corners();
+  ASSERT_EQ(others_before.size(), 12u);
+
+  ASSERT_EQ(st.apply(LightShapeEdit{0, {}, vec2(0.6f, 0.1f), {}}), Tier::light_refit);
+  pl = light_placement(st.scene, st.lights[0]);
+  EXPECT_NEAR(pl.size.x, 0.6f, 1e-6f);
+  EXPECT_NEAR(pl.size.y, 0.1f, 1e-6f);
+  EXPECT_NEAR(pl.center.x, 0.5f, 1e-6f);
+  EXPECT_NEAR(pl.center.z, 0.5f, 1e-6f);
+  // The ceiling strip that shared two of the light's corners did not move.
+  EXPECT_EQ(other_corners(), others_before);
+  // The render geometry followed: a ray up through the new light's edge region hits the light's material.
+  const RenderGeometry& g = *st.geo;
+  int light_tris = 0;
+  for (uint32_t t = 0; t < g.triangle_count(); ++t)
+    if (st.scene.materials[g.tri_material[t]].emissive()) {
+      ++light_tris;
+      for (int k = 0; k < 3; ++k) {
+        vec3 p = g.tri_vertices[3 * t + k] + g.origin;
+        EXPECT_NEAR(std::abs(p.x - 0.5f), 0.3f, 1e-6f);
+        EXPECT_NEAR(std::abs(p.z - 0.5f), 0.05f, 1e-6f);
+      }
+    }
+  EXPECT_EQ(light_tris, 2);
+  EXPECT_EQ(st.geometry_builds, 1);
+  // The scale works on it too, and on the render side the light set follows.
+  ASSERT_EQ(st.apply(LightShapeEdit{0, {}, {}, 0.5f}), Tier::light_refit);
+  pl = light_placement(st.scene, st.lights[0]);
+  EXPECT_NEAR(pl.size.x, 0.3f, 1e-6f);
+  float area = 0.0f;
+  for (const Light& l : st.render_scene->lights.lights) area += l.area;
+  EXPECT_NEAR(area, 0.3f * 0.05f, 1e-6f);
+}
+
+TEST(SceneLights, EveryLightOfEveryBuiltinSceneCanBeResizedAndScaled) {
+  for (const BuiltinAsset& a : builtin_assets()) {
+    if (std::string_view(a.name) == "cornell-large-mesh") continue;  // a 1M-triangle BVH: slow under sanitizers
+    ViewerState st;
+    st.init(builtin(a.name), small_params(), {}, -1);
+    ASSERT_FALSE(st.lights.empty()) << a.name;
+    for (int l = 0; l < int(st.lights.size()); ++l) {
+      LightPlacement before = light_placement(st.scene, st.lights[size_t(l)]);
+      if (st.lights[size_t(l)].kind != SceneLightKind::sphere) {
+        ASSERT_EQ(st.apply(LightShapeEdit{l, {}, before.size * vec2(1.5f, 0.5f), {}}), Tier::light_refit) << a.name;
+        LightPlacement after = light_placement(st.scene, st.lights[size_t(l)]);
+        EXPECT_NEAR(after.size.x, 1.5f * before.size.x, 1e-5f) << a.name << " light " << l;
+        EXPECT_NEAR(after.size.y, 0.5f * before.size.y, 1e-5f) << a.name << " light " << l;
+      }
+      LightPlacement mid = light_placement(st.scene, st.lights[size_t(l)]);
+      ASSERT_EQ(st.apply(LightShapeEdit{l, {}, {}, 2.0f}), Tier::light_refit) << a.name;
+      LightPlacement after = light_placement(st.scene, st.lights[size_t(l)]);
+      EXPECT_NEAR(after.size.x, 2.0f * mid.size.x, 1e-5f) << a.name << " light " << l;
+      EXPECT_NEAR(glm::length(after.center - mid.center), 0.0f, 1e-5f) << a.name << " light " << l;
+    }
+    EXPECT_EQ(st.geometry_builds, 1) << a.name;
+  }
+}
+
+TEST(SceneLights, PickingALightSelectsIt) {
+  ViewerState st;
+  RenderParams p = small_params();
+  p.width = p.height = 64;
+  Scene s = builtin("cornell");
+  s.camera->target = vec3(0.0f, 1.98f, 0.0f);  // look straight at the light from below
+  s.camera->eye = vec3(0.0f, 1.0f, 0.0f);
+  s.camera->up = vec3(0, 0, -1);
+  st.init(std::move(s), p, {}, -1);
+  ASSERT_TRUE(st.select_at(32, 32));
+  EXPECT_EQ(st.selected_light, 0);
+  EXPECT_EQ(st.scene.materials[size_t(st.selected_material)].name, "light");
+}
+
+// parse_script on every malformed form: each line alone must fail at line 2, naming the reason.
+TEST(Script, EveryMalformedFormIsRejectedWithItsLine) {
+  struct Case {
+    const char* line;
+    const char* reason;
+  };
+  const Case cases[] = {
+      {"frobnicate 1", "unknown command"},
+      {"orbit 10", "takes 2 argument"},
+      {"orbit 1 2 3", "takes 2 argument"},
+      {"quit now", "takes 0 argument"},
+      {"orbit ten 2", "is not a number"},
+      {"dolly nan", "is not a number"},
+      {"dolly 0", "is not positive"},
+      {"wait-frames -1", "not a non-negative integer"},
+      {"wait-ms 1.5", "not a non-negative integer"},
+      {"light 0.5", "not a non-negative integer"},
+      {"light-size 1", "takes 2 argument"},
+      {"light-size 1 -2", "is not positive"},
+      {"light-scale 0", "is not positive"},
+      {"light-intensity x", "is not a number"},
+      {"set-material", "takes 1 to 4 argument"},
+      {"set-material plastic", "unknown material type"},
+      {"set-material diffuse albedo=1,2", "wrong number of values"},
+      {"set-material diffuse albedo=1,x,2", "not a list of numbers"},
+      {"set-material diffuse roughness=1", "expected albedo"},
+      {"tonemap Reinhard", "unknown tonemap"},
+      {"exposure", "takes 1 argument"},
+  };
+  for (const Case& c : cases) {
+    auto r = parse_script(std::string("wait-frames 1  # fine\n") + c.line + "\n", "s.txt");
+    ASSERT_FALSE(r.ok()) << c.line;
+    EXPECT_EQ(r.error().rfind("s.txt:2: ", 0), 0u) << r.error();
+    EXPECT_NE(r.error().find(c.reason), std::string::npos) << c.line << " -> " << r.error();
+  }
+}
+
+TEST(Script, EveryCommandOfTheTableParsesItsWellFormedUse) {
+  const char* good =
+      "orbit 10 -5\npan 0.1 0\ndolly 0.8\npick 3 4\nset-material glass ior=1.3 emission=0,0,0\nlight 0\n"
+      "light-size 0.5 0.2\nlight-scale 1.1\nlight-position 0 1.9 0\nlight-intensity 2\nexposure -1\ntonemap reinhard\n"
+      "load x.obj\nwait-frames 2\nwait-ms 10\nstop-at-spp 8\nscreenshot a.png\nsave a.pfm\nsave-scene a.json\nexpect-restart\n"
+      "expect-no-restart\nquit\n";
+  auto r = parse_script(good, "s.txt");
+  ASSERT_TRUE(r.ok()) << r.error();
+  EXPECT_EQ(r->size(), script_commands().size());
+  for (const ScriptCommandSpec& spec : script_commands()) {
+    bool used = false;
+    for (const ScriptCommand& c : *r) used |= c.name == spec.name;
+    EXPECT_TRUE(used) << spec.name;
+  }
+}
+
+TEST(Script, TheReadmeListsEveryCommand) {
+  std::ifstream in(std::string(PTVIEW_SOURCE_DIR) + "/README.md");
+  std::stringstream text;
+  text << in.rdbuf();
+  for (const ScriptCommandSpec& spec : script_commands())
+    EXPECT_NE(text.str().find(std::string("`") + spec.name + (*spec.usage ? " " : "`")), std::string::npos) << spec.name;
+}
+
+}  // namespace
+}  // namespace pt
