@@ -114,7 +114,9 @@ void RenderSession::drive(std::stop_token stop) {
       std::unique_lock lock(mutex_);
       wake_.wait(lock, stop, [&] {
         bool target_reached = target_spp_ > 0 && film.spp() >= target_spp_ && epoch_ == current;
-        return scene_ && (epoch_ != current || adaptive_changed_ || (!paused_ && !target_reached && !converged_));
+        // A new epoch's preview is rendered even when paused, so an edit always shows at once.
+        return scene_ && (epoch_ != current || adaptive_changed_ || need_preview ||
+                          (!paused_ && !target_reached && !converged_));
       });
       if (stop.stop_requested()) break;
       if (epoch_ != current) {

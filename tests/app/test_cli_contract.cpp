@@ -84,10 +84,11 @@ std::vector<std::map<std::string, double>> parse_csv(const std::string& text) {
   std::string line;
   std::vector<std::string> names;
   auto split = [](const std::string& l) {
-    std::vector<std::string> out;
-    std::stringstream ss(l);
-    std::string cell;
-    while (std::getline(ss, cell, ',')) out.push_back(cell);
+    std::vector<std::string> out;  // keeps empty cells, a trailing one too ("1,1,...,0.1," has an empty last cell)
+    size_t start = 0;
+    for (size_t comma; (comma = l.find(',', start)) != std::string::npos; start = comma + 1)
+      out.push_back(l.substr(start, comma - start));
+    out.push_back(l.substr(start));
     return out;
   };
   if (std::getline(in, line)) names = split(line);
@@ -95,7 +96,8 @@ std::vector<std::map<std::string, double>> parse_csv(const std::string& text) {
     std::vector<std::string> cells = split(line);
     EXPECT_EQ(cells.size(), names.size()) << line;
     std::map<std::string, double> row;
-    for (size_t i = 0; i < cells.size() && i < names.size(); ++i) row[names[i]] = std::stod(cells[i]);
+    for (size_t i = 0; i < cells.size() && i < names.size(); ++i)
+      if (!cells[i].empty()) row[names[i]] = std::stod(cells[i]);  // empty: unknown (est_rel_mse at 1 spp)
     rows.push_back(row);
   }
   return rows;
