@@ -35,9 +35,79 @@ AABB block_box(const Tri4& block, std::span<const vec3> vertices) {
   return b;
 }
 
+/// The SAH-optimal way to cut the binary tree into 8-wide nodes and leaves (Ylitie, Karras and Laine 2017,
+/// "Efficient incoherent ray traversal on GPUs through compressed wide BVHs", section 4.1), by dynamic programming
+/// from the leaves up. The greedy collapse (open the largest child until 8) fills the top of the tree and leaves a
+/// third of the nodes near the bottom with 2 or 3 children; here a small subtree is spread into its parent's free
+/// slots when that is cheaper, and the leaves of a subtree of up to 16 triangles may merge into one leaf.
+struct CollapsePlan {
+  /// Cost of one visit of a wide node and of one 4-triangle block test, in the same unit (measured: a block test
+  /// costs about as much as a node visit with its stack and ordering work).
+  static constexpr float kNodeCost = 1.0f, kBlockCost = 1.0f;
+  static constexpr uint32_t kMaxLeafPrims = 4 * kMaxLeafBlocks;
+
+  struct Entry {
+    float slots[8];      ///< slots[k-1]: cheapest cover of the subtree by at most k slot roots
+    uint8_t split[8];    ///< split[k-1]: 0 = the subtree is one slot; j = j slots to the left child, k - j right
+    uint8_t node_split;  ///< as a wide node: slots given to the left child (of 8)
+    bool leaf;           ///< as one slot: a leaf (true) or a wide node
+    uint32_t first, count;  ///< its primitives, contiguous in prim_indices
+  };
+  std::vector<Entry> e;
+
+  explicit CollapsePlan(const Bvh& binary) : e(binary.nodes.size()) {
+    // Children come after their parent, so a reverse sweep sees children first.
+    for (size_t i = binary.nodes.size(); i-- > 0;) {
+      const BvhNode& n = binary.nodes[i];
+      Entry& x = e[i];
+      const float area = n.bounds.half_area();
+      float as_leaf = kInfinity, as_node = kInfinity;
+      if (n.is_leaf()) {
+        x.first = n.first;
+        x.count = n.count;
+      } else {
+        const Entry &l = e[n.first], &r = e[n.first + 1];
+        x.first = std::min(l.first, r.first);
+        x.count = l.count + r.count;
+        for (int j = 1; j < 8; ++j) {
+          const float c = l.slots[j - 1] + r.slots[8 - j - 1];
+          if (c < as_node) as_node = c, x.node_split = uint8_t(j);
+        }
+        as_node += kNodeCost * area;
+      }
+      if (x.count <= kMaxLeafPrims) as_leaf = kBlockCost * area * float((x.count + 3) / 4);
+      x.leaf = as_leaf <= as_node;
+      x.slots[0] = std::min(as_leaf, as_node);
+      x.split[0] = 0;
+      for (int k = 2; k <= 8; ++k) {
+        x.slots[k - 1] = x.slots[0];
+        x.split[k - 1] = 0;
+        if (n.is_leaf()) continue;
+        const Entry &l = e[n.first], &r = e[n.first + 1];
+        for (int j = 1; j < k; ++j) {
+          const float c = l.slots[j - 1] + r.slots[k - j - 1];
+          if (c < x.slots[k - 1]) x.slots[k - 1] = c, x.split[k - 1] = uint8_t(j);
+        }
+      }
+    }
+  }
+
+  /// The slot roots of binary node `index` covered by at most k slots.
+  void gather(const Bvh& binary, uint32_t index, int k, uint32_t* out, int& n) const {
+    const int j = e[index].split[k - 1];
+    if (j == 0) {
+      out[n++] = index;
+      return;
+    }
+    gather(binary, binary.nodes[index].first, j, out, n);
+    gather(binary, binary.nodes[index].first + 1, k - j, out, n);
+  }
+};
+
 /// Builds the tree's structure: nodes, and blocks with their prim ids; the vertices are gathered afterwards.
 struct Collapser {
   const Bvh& binary;
+  const CollapsePlan& plan;
   Bvh8& out;
   std::vector<uint32_t>& blocks;  ///< offsets of the blocks made, for the (parallel) vertex gather
 
@@ -48,14 +118,16 @@ struct Collapser {
     return uint32_t(offset);
   }
 
-  ChildRef make_leaf(const BvhNode& leaf) {
-    const uint32_t count = (leaf.count + 3) / 4;
+  /// A leaf of the primitives of binary subtree `index` (contiguous in prim_indices).
+  ChildRef make_leaf(uint32_t index) {
+    const CollapsePlan::Entry& x = plan.e[index];
+    const uint32_t count = (x.count + 3) / 4;
     const uint32_t first = allocate(count * kBlockUnits);
     for (uint32_t k = 0; k < count; ++k) {
       Tri4& block = out.block(first + k * kBlockUnits);
       for (uint32_t lane = 0; lane < 4; ++lane) {
         const uint32_t i = 4 * k + lane;
-        block.prim[lane] = i < leaf.count ? binary.prim_indices[leaf.first + i] : kInvalidPrim;
+        block.prim[lane] = i < x.count ? binary.prim_indices[x.first + i] : kInvalidPrim;
       }
       blocks.push_back(first + k * kBlockUnits);
     }
@@ -69,25 +141,15 @@ struct Collapser {
     int n = 0;
     const BvhNode& root = binary.nodes[index];
     if (root.is_leaf()) {
-      children[n++] = index;
+      children[n++] = index;  // a tree of one leaf: the root node has one child
     } else {
-      children[n++] = root.first;
-      children[n++] = root.first + 1;
+      const int j = plan.e[index].node_split;
+      plan.gather(binary, root.first, j, children, n);
+      plan.gather(binary, root.first + 1, 8 - j, children, n);
     }
-    while (n < 8) {
-      int open = -1;
-      float largest = -1.0f;
-      for (int i = 0; i < n; ++i) {
-        const BvhNode& c = binary.nodes[children[i]];
-        if (!c.is_leaf() && c.bounds.half_area() > largest) largest = c.bounds.half_area(), open = i;
-      }
-      if (open < 0) break;
-      const uint32_t first = binary.nodes[children[open]].first;
-      children[open] = first;
-      children[n++] = first + 1;
-    }
+    auto is_leaf = [&](uint32_t c) { return binary.nodes[c].is_leaf() || plan.e[c].leaf; };
     // Leaves first, so their blocks land right after this node.
-    std::stable_partition(children, children + n, [&](uint32_t c) { return binary.nodes[c].is_leaf(); });
+    std::stable_partition(children, children + n, is_leaf);
     const uint32_t w = allocate(kNodeUnits);
     out.node_count++;
     {
@@ -96,10 +158,9 @@ struct Collapser {
       std::fill(node.child, node.child + 8, kEmptyChild);
     }
     for (int i = 0; i < n; ++i) {
-      const BvhNode& c = binary.nodes[children[i]];
-      const ChildRef ref = c.is_leaf() ? make_leaf(c) : collapse(children[i]);
+      const ChildRef ref = is_leaf(children[i]) ? make_leaf(children[i]) : collapse(children[i]);
       Bvh8Node& node = out.node(w);  // the arena may have grown: look it up again
-      set_slot(node, i, c.bounds);
+      set_slot(node, i, binary.nodes[children[i]].bounds);
       node.child[i] = ref;
     }
     return w;
@@ -138,7 +199,8 @@ Bvh8 make_bvh8(const Bvh& binary, std::span<const vec3> triangle_vertices, int t
                     kBlockUnits * (binary.prim_indices.size() / 4 + leaves));
   std::vector<uint32_t> blocks;
   blocks.reserve(binary.prim_indices.size() / 4 + leaves);
-  Collapser{binary, out, blocks}.collapse(0);
+  const CollapsePlan plan(binary);
+  Collapser{binary, plan, out, blocks}.collapse(0);
   // Gathering the vertices is most of the collapse's time (random reads): in parallel.
   parallel_chunks(blocks.size(), threads, 2048, [&](int, size_t begin, size_t end) {
     for (size_t k = begin; k < end; ++k) fill_block(out.block(blocks[k]), triangle_vertices);

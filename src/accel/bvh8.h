@@ -1,8 +1,8 @@
 #pragma once
 /// An 8-wide BVH over triangles, collapsed from the binary SAH tree, with SIMD node tests and 4-triangle leaf
 /// blocks (the layout of Embree's BVH8, Wald et al. 2014, "Embree: a kernel framework for efficient CPU ray
-/// tracing"; collapsing a binary tree by opening the largest child: Wald, Benthin and Boulos 2008, "Getting rid of
-/// packets"). One node test checks a ray against 8 boxes at once, so a ray visits about a third as many nodes as
+/// tracing"), collapsed from the binary tree by the SAH-optimal dynamic program of Ylitie, Karras and Laine 2017
+/// ("Efficient incoherent ray traversal on GPUs through compressed wide BVHs"). One node test checks a ray against 8 boxes at once, so a ray visits about a third as many nodes as
 /// in the binary tree, and each visit is a few AVX instructions.
 #include <cstdint>
 #include <span>
@@ -87,9 +87,10 @@ struct Bvh8 {
   size_t bytes() const { return units.size() * sizeof(Bvh8Unit); }
 };
 
-/// Collapses `binary` (built over the triangles; triangle i is vertices 3i..3i+2) into an 8-wide tree, opening the
-/// child with the largest surface area until a node has 8 children. Leaves of the binary tree become leaves of
-/// ceil(count / 4) blocks. Throws std::length_error beyond kMaxArenaUnits (16 GiB of tree, about 250M
+/// Collapses `binary` (built over the triangles; triangle i is vertices 3i..3i+2) into an 8-wide tree: the cut into
+/// wide nodes and leaves (of up to 16 triangles, ceil(count / 4) blocks) that minimizes the SAH cost of the wide
+/// tree. Measured against the greedy collapse (open the largest child until 8): half the nodes on the 1M knot and
+/// 8-12% faster rays there; on the bunny diffuse and primary rays 2-5% faster, shadow rays up to 8% slower. Throws std::length_error beyond kMaxArenaUnits (16 GiB of tree, about 250M
 /// triangles: more than memory allows anyway), as std::vector throws std::bad_alloc. The leaf blocks are filled
 /// on up to `threads` threads; the result does not depend on the count.
 Bvh8 make_bvh8(const Bvh& binary, std::span<const vec3> triangle_vertices, int threads = 1);
