@@ -38,6 +38,14 @@ TEST(FuzzRegressions, EveryKeptCrashIsHandled) {
       if (!r.ok()) {
         EXPECT_TRUE(one_line(r.error())) << name << ": " << r.error();
       }
+    } else if (name.rfind("fuzz-fuzz_gltf", 0) == 0) {
+      std::string path = dir / (text.rfind("glTF", 0) == 0 ? "m.glb" : "m.gltf");
+      std::ofstream(path, std::ios::binary) << text;
+      std::ofstream(dir / "m.bin", std::ios::binary) << text;
+      Result<Scene> r = load_scene(path);
+      if (!r.ok()) {
+        EXPECT_TRUE(one_line(r.error())) << name << ": " << r.error();
+      }
     } else if (name.rfind("fuzz-fuzz_cli", 0) == 0) {
       std::vector<std::string> args = fuzz::split_args(text.data(), text.size());
       std::vector<const char*> argv;
