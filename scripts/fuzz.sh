@@ -7,7 +7,7 @@ seconds="${1:-60}"
 cmake --preset fuzz >/dev/null
 cmake --build --preset fuzz -j "$(nproc)" >/dev/null
 status=0
-for target in fuzz_json fuzz_obj fuzz_cli; do
+for target in fuzz_json fuzz_obj fuzz_cli fuzz_gltf; do
   corpus_dir="fuzz/corpus/${target#fuzz_}"
   work="build-fuzz/work-$target"
   mkdir -p "$work/corpus" "$work/artifacts"

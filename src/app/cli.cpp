@@ -84,7 +84,7 @@ ParseOutcome parse_command_line(int argc, const char* const* argv) {
   app.add_option("--screenshot", o.viewer.screenshot, "Viewer: save a PNG of the window at exit");
   app.add_option("--script", o.viewer.script, "Viewer: run scripted input from FILE");
   app.add_option("--camera", o.camera, "Use camera N of the scene file (glTF cameras in node order, from 0)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(CLI::Range(0, 1 << 20));
 
   ParseOutcome result;
   try {

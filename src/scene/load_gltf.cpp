@@ -316,8 +316,8 @@ LocalMesh read_mesh(const tinygltf::Model& model, size_t mesh_index, Reader& rea
     out.normals.insert(out.normals.end(), normals.begin(), normals.end());
   }
   for (auto& [mode, count] : skipped)
-    warnings.push_back(path + ": " + mname + ": " + std::to_string(count) + " " + mode + " primitive" +
-                       (count == 1 ? "" : "s") + " skipped (only triangles are rendered)");
+    warnings.push_back(path + ": " + mname + ": " + std::to_string(count) + " primitive" + (count == 1 ? "" : "s") +
+                       " in mode '" + mode + "' skipped (only triangles are rendered)");
   return out;
 }
 

@@ -52,7 +52,7 @@ void expect_valid_scene(Scene scene, const std::string& name) {
   for (size_t i = 0; i < film.count.size(); ++i) ASSERT_TRUE(is_finite(film.mean(i))) << name;
 }
 
-/// Runs one input through the harness of fuzz target `target` (fuzz_json, fuzz_obj, fuzz_cli): it loads (and then
+/// Runs one input through the harness of fuzz target `target` (fuzz_json, fuzz_obj, fuzz_gltf, fuzz_cli): it loads (and then
 /// is a valid scene) or gives exactly one error line. Returns whether it loaded.
 bool check_input(const std::string& target, const std::string& name, const std::string& text,
                  const test::TempDir& dir) {
@@ -70,6 +70,18 @@ bool check_input(const std::string& target, const std::string& name, const std::
     std::ofstream(dir / "m.obj", std::ios::binary) << "mtllib m.mtl\n" << text.substr(0, split);
     std::ofstream(dir / "m.mtl", std::ios::binary) << (split == std::string::npos ? "" : text.substr(split));
     Result<Scene> r = load_scene(dir / "m.obj");
+    if (!r.ok()) {
+      EXPECT_TRUE(one_line(r.error())) << name << ": " << r.error();
+      return false;
+    }
+    expect_valid_scene(std::move(*r), name);
+    return true;
+  }
+  if (target == "fuzz_gltf") {
+    std::string path = dir / (text.rfind("glTF", 0) == 0 ? "m.glb" : "m.gltf");
+    std::ofstream(path, std::ios::binary) << text;
+    std::ofstream(dir / "m.bin", std::ios::binary) << text;
+    Result<Scene> r = load_scene(path);
     if (!r.ok()) {
       EXPECT_TRUE(one_line(r.error())) << name << ": " << r.error();
       return false;

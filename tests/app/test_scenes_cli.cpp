@@ -5,6 +5,7 @@
 
 #include "render/image.h"
 #include "run_exe.h"
+#include "scene/gltf_fixture.h"
 
 namespace pt {
 namespace {
@@ -44,7 +45,7 @@ TEST(Scenes, EveryBadFileIsOneLineAndExitTwo) {
   int n = 0;
   for (auto& entry : fs::directory_iterator(fs::path(PTVIEW_TEST_DATA) / "bad")) {
     std::string ext = entry.path().extension().string();
-    if (ext != ".json" && ext != ".obj") continue;  // .mtl and helpers are referenced by the others
+    if (ext != ".json" && ext != ".obj" && ext != ".gltf" && ext != ".glb") continue;  // .mtl and helpers are referenced by the others
     ++n;
     std::string out = dir / "x.png";
     auto r = run_ptview({entry.path().string(), "--frames", "1", "--size", "8x8", "--out", out}, 60);
@@ -54,6 +55,38 @@ TEST(Scenes, EveryBadFileIsOneLineAndExitTwo) {
     EXPECT_FALSE(fs::exists(out)) << entry.path();
   }
   EXPECT_GE(n, 20);
+}
+
+TEST(Scenes, GltfCameraOption) {
+  TempDir dir;
+  test::GltfBuilder b;
+  std::vector<vec3> quad = {{-1, -1, 0}, {1, -1, 0}, {-1, 1, 0}, {1, 1, 0}};
+  std::vector<uint8_t> idx = {0, 1, 2, 2, 1, 3};
+  b.node({{"mesh", b.mesh(b.positions(quad), b.indices(idx))}});
+  b.j["cameras"] = {{{"type", "perspective"}, {"perspective", {{"yfov", 0.8}, {"znear", 0.1}}}},
+                    {{"type", "perspective"}, {"perspective", {{"yfov", 0.3}, {"znear", 0.1}}}}};
+  b.node({{"camera", 0}, {"translation", {0, 0, 4}}});
+  b.node({{"camera", 1}, {"translation", {0.5, 0, 4}}});
+  std::string scene = dir / "cams.glb";
+  test::write_file(scene, b.glb());
+  auto render = [&](std::vector<std::string> extra, const std::string& out) {
+    std::vector<std::string> args = {scene, "--frames", "1", "--size", "16x16", "--out", dir / out};
+    args.insert(args.end(), extra.begin(), extra.end());
+    return run_ptview(args, 60);
+  };
+  auto r = render({}, "default.pfm");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  ASSERT_EQ(render({"--camera", "0"}, "c0.pfm").exit_code, 0);
+  ASSERT_EQ(render({"--camera", "1"}, "c1.pfm").exit_code, 0);
+  EXPECT_EQ(read_file(dir / "default.pfm"), read_file(dir / "c0.pfm"));
+  EXPECT_NE(read_file(dir / "default.pfm"), read_file(dir / "c1.pfm"));
+  for (const char* bad : {"2", "-1", "x"}) {
+    r = render({"--camera", bad}, "bad.pfm");
+    EXPECT_EQ(r.exit_code, 2) << bad;
+    EXPECT_EQ(count_lines(r.err), 1) << r.err;
+    EXPECT_NE(r.err.find("--camera"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(dir / "bad.pfm"));
+  }
 }
 
 TEST(Scenes, BunnyRendersWithDefaultCameraAndLight) {

@@ -5,8 +5,14 @@
 #include <cmath>
 #include <limits>
 
+#include <unistd.h>
+
+#include <filesystem>
+
 #include "render/analytic.h"
 #include "render/renderer.h"
+#include "scene/gltf_fixture.h"
+#include "scene/load.h"
 #include "scene_builders.h"
 
 namespace pt {
@@ -146,8 +152,38 @@ struct LightOverPlane {
   float radiance = 4.0f;
 };
 
+/// The "rect" set-up as a glTF file, loaded by load_scene: the floor and an emissive quad (two triangles, emission
+/// emissiveFactor x KHR_materials_emissive_strength), each placed by a node translation.
+LightOverPlane make_gltf_light_over_plane() {
+  LightOverPlane out;
+  test::GltfBuilder b;
+  int floor_mat = b.material({{"pbrMetallicRoughness", {{"baseColorFactor", {out.albedo, out.albedo, out.albedo, 1}},
+                                                        {"metallicFactor", 0}, {"roughnessFactor", 1}}}});
+  int lamp_mat = b.material({{"pbrMetallicRoughness", {{"baseColorFactor", {0, 0, 0, 1}}}},
+                             {"emissiveFactor", {1, 1, 1}},
+                             {"extensions", {{"KHR_materials_emissive_strength", {{"emissiveStrength", out.radiance}}}}}});
+  std::vector<vec3> floor = {{-50, 0, 50}, {50, 0, 50}, {50, 0, -50}, {-50, 0, -50}};  // counter-clockwise from above
+  vec3 c(-0.3f, 0.0f, -0.2f), e1(0.8f, 0, 0), e2(0, 0, 0.5f);  // cross(e1, e2) = -y: faces down
+  std::vector<vec3> lamp = {c, c + e1, c + e1 + e2, c + e2};
+  std::vector<uint8_t> quad = {0, 1, 2, 0, 2, 3};
+  b.node({{"mesh", b.mesh(b.positions(floor), b.indices(quad), floor_mat)}, {"translation", {0, -2, 0}}});
+  b.node({{"mesh", b.mesh(b.positions(lamp), b.indices(quad), lamp_mat)}, {"translation", {0, -1, 0}}});
+  b.j["scenes"][0]["nodes"] = {2};
+  b.node({{"children", {0, 1}}, {"translation", {0, 2, 0}}}, false);  // floor at y = 0, lamp at y = 1
+  std::string path = (std::filesystem::temp_directory_path() / ("ptview-light-" + std::to_string(::getpid()) + ".glb")).string();
+  test::write_file(path, b.glb());
+  Result<Scene> s = load_scene(path);
+  std::filesystem::remove(path);
+  EXPECT_TRUE(s.ok()) << s.error();
+  if (!s.ok()) return out;
+  for (vec3 p : lamp) out.light_polygon.push_back(dvec3(p + vec3(0, 1, 0)));
+  out.rs = make_render_scene(*s);
+  return out;
+}
+
 /// A large diffuse floor at y = 0 facing up and an emitter 1 unit above it, facing down.
 LightOverPlane make_light_over_plane(const std::string& kind) {
+  if (kind == "gltf-quad") return make_gltf_light_over_plane();
   LightOverPlane out;
   Scene s;
   add_material(s, diffuse(vec3(out.albedo)));
@@ -173,7 +209,8 @@ class PolygonIrradiance : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(PolygonIrradiance, DirectLightingMatchesLambertsFormula) {
   LightOverPlane setup = make_light_over_plane(GetParam());
-  ASSERT_EQ(setup.rs.lights.lights.size(), 1u);
+  if (GetParam() == "gltf-quad") ASSERT_GE(setup.rs.lights.lights.size(), 1u);  // two triangles, or one merged quad
+  else ASSERT_EQ(setup.rs.lights.lights.size(), 1u);
   const vec3 points[] = {vec3(0.05f, 0, 0.02f), vec3(0.9f, 0, -0.7f), vec3(-2.0f, 0, 1.5f)};
   for (vec3 x : points) {
     double expected = setup.albedo / M_PI *
@@ -196,7 +233,7 @@ TEST_P(PolygonIrradiance, DirectLightingMatchesLambertsFormula) {
       }
   }
 }
-INSTANTIATE_TEST_SUITE_P(Lights, PolygonIrradiance, ::testing::Values("rect", "triangle"));
+INSTANTIATE_TEST_SUITE_P(Lights, PolygonIrradiance, ::testing::Values("rect", "triangle", "gltf-quad"));
 
 TEST(SphereLight, IrradianceBelowASphereMatchesClosedForm) {
   // A sphere of radiance L and radius r whose center is at distance d straight above x: E = pi L (r/d)^2.

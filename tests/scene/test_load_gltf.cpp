@@ -140,7 +140,7 @@ TEST(Gltf, StripsAndFansAreConvertedPointsAndLinesSkipped) {
     vec3 n = glm::cross(m.positions[t.y] - m.positions[t.x], m.positions[t.z] - m.positions[t.x]);
     EXPECT_GT(n.z, 0.0f);
   }
-  EXPECT_TRUE(has_warning(s, "mesh 1 'fanny': 1 lines primitive skipped")) << s.warnings.size();
+  EXPECT_TRUE(has_warning(s, "mesh 1 'fanny': 1 primitive in mode 'lines' skipped")) << s.warnings.size();
 }
 
 TEST(Gltf, SparseAccessorIsApplied) {

@@ -1,0 +1,37 @@
+// Scene loading alone (no BVH, no rendering): wall time of load_scene per file, best of --reps, with the
+// triangle count. For peak memory run it under /usr/bin/time -v with --reps 1.
+// Usage: bench_load_time [--reps N] FILE...   (large inputs: bench/gen_large_gltf.py)
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "scene/load.h"
+
+int main(int argc, char** argv) {
+  int reps = 3;
+  std::vector<std::string> files;
+  for (int i = 1; i < argc; ++i) {
+    if (std::strcmp(argv[i], "--reps") == 0 && i + 1 < argc) reps = std::max(1, std::atoi(argv[++i]));
+    else files.push_back(argv[i]);
+  }
+  std::printf("%-40s %12s %10s\n", "file", "triangles", "best_ms");
+  for (const std::string& f : files) {
+    double best = 1e300;
+    size_t triangles = 0;
+    for (int r = 0; r < reps; ++r) {
+      auto t0 = std::chrono::steady_clock::now();
+      pt::Result<pt::Scene> s = pt::load_scene(f);
+      double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+      if (!s) {
+        std::fprintf(stderr, "%s\n", s.error().c_str());
+        return 2;
+      }
+      triangles = s->triangle_count();
+      best = std::min(best, ms);
+    }
+    std::printf("%-40s %12zu %10.1f\n", f.c_str(), triangles, best);
+  }
+  return 0;
+}
