@@ -1,11 +1,13 @@
 // Every input the fuzzers ever crashed on (tests/data/bad/fuzz-<target>-*) stays fixed: it loads or gives exactly
-// one error line. The harness logic matches fuzz/fuzz_*.cpp.
+// one error line; fuzz_render's inputs also build and render finite within their ray budget. The harness logic
+// matches fuzz/fuzz_*.cpp (fuzz_render's is shared: fuzz/fuzz_render.h).
 #include <gtest/gtest.h>
 
 #include <filesystem>
 #include <fstream>
 
 #include "../../fuzz/fuzz_args.h"
+#include "../../fuzz/fuzz_render.h"
 #include "app/options.h"
 #include "run_exe.h"
 #include "scene/load.h"
@@ -38,6 +40,8 @@ TEST(FuzzRegressions, EveryKeptCrashIsHandled) {
       if (!r.ok()) {
         EXPECT_TRUE(one_line(r.error())) << name << ": " << r.error();
       }
+    } else if (name.rfind("fuzz-fuzz_render", 0) == 0) {
+      EXPECT_EQ(fuzz::check_render_input(text, dir.path), "") << name;
     } else if (name.rfind("fuzz-fuzz_cli", 0) == 0) {
       std::vector<std::string> args = fuzz::split_args(text.data(), text.size());
       std::vector<const char*> argv;
