@@ -278,7 +278,9 @@ bool traverse(const Bvh8& bvh, Ray& ray, uint32_t* prim, float* b1, float* b2) {
         continue;
       }
     }
-    // A leaf: ceil(n / 4) blocks.
+    // A leaf: ceil(n / 4) blocks. An unused slot's empty box is entered when every distance of the node test is
+    // NaN (coordinates near 1e30 times a large 1/dir overflow to inf, and inf - inf leaves the interval open).
+    if (cur == kEmptyChild) goto pop;
     {
       const uint32_t first_block = leaf_first(cur), end_block = first_block + leaf_count(cur) * kBlockUnits;
       for (uint32_t k = first_block; k < end_block; k += kBlockUnits) {
