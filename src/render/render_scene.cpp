@@ -147,6 +147,14 @@ SurfaceHit make_surface_hit(const RenderScene& rs, const Ray& ray, const Hit& hi
     vec3 err = gamma_bound(7) * (glm::abs(b0 * v[0]) + glm::abs(hit.b1 * v[1]) + glm::abs(hit.b2 * v[2]));
     vec3 ng = glm::cross(v[1] - v[0], v[2] - v[0]);
     float len = glm::length(ng);
+    if (!std::isfinite(len)) {
+      // The edges or their cross product overflow float (coordinates beyond ~1e19): a NaN normal gave the bounce
+      // ray a NaN direction (found by fuzz_render). Double has the range.
+      dvec3 c = glm::cross(dvec3(v[1]) - dvec3(v[0]), dvec3(v[2]) - dvec3(v[0]));
+      double dl = glm::length(c);
+      ng = dl > 0.0 && std::isfinite(dl) ? vec3(c / dl) : vec3(0.0f);
+      len = dl > 0.0 && std::isfinite(dl) ? 1.0f : 0.0f;
+    }
     ng = len > 0.0f ? ng / len : -ray.dir;
     sh.sp = {p, err, ng};
     const vec3* n = &g.tri_normals[3 * t];
