@@ -1,5 +1,6 @@
 #include "app/app.h"
 
+#include <chrono>
 #include <cstdio>
 
 #include "scene/load.h"
@@ -18,13 +19,16 @@ int run_app(int argc, const char* const* argv) {
     return parsed.exit_code;
   }
   const AppOptions& options = *parsed.options;
+  const auto load_start = std::chrono::steady_clock::now();
   Result<Scene> scene = options.scene_path.empty() ? load_builtin_scene(kDefaultSceneName)
                                                    : load_scene(options.scene_path);
   if (!scene) {
     std::fprintf(stderr, "ptview: error: %s\n", scene.error().c_str());
     return 2;
   }
-  if (options.headless()) return run_headless(options, *scene);
+  const double load_ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - load_start).count();
+  if (options.headless()) return run_headless(options, *scene, load_ms);
 #ifdef PTVIEW_HAS_VIEWER
   return run_viewer(options.render, options.display, options.viewer, std::move(*scene));
 #else

@@ -10,14 +10,15 @@ namespace pt {
 int run_app(int argc, const char* const* argv);
 
 /// Renders options.frames frames (or until the time limit) without a window, writes outputs; returns exit code.
-int run_headless(const AppOptions& options, const Scene& scene);
+/// `load_ms`: how long reading and parsing the scene took (the caller loaded it), reported as the stats' load_ms.
+int run_headless(const AppOptions& options, const Scene& scene, double load_ms = 0.0);
 
 /// Summary of a finished run, for --stats-json.
 struct RunSummary {
   int frames = 0;
   int spp = 0;
   double seconds = 0.0;       ///< rendering time, excluding loading and BVH build
-  double load_ms = 0.0;
+  double load_ms = 0.0;       ///< reading and parsing the scene file (not the BVH build: bvh.build_ms)
   RenderCounters counters;
   int threads = 1;
 };

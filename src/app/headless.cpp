@@ -32,7 +32,7 @@ void print_progress(int frame, int frames_total, int spp, double seconds, uint64
 
 }  // namespace
 
-int run_headless(const AppOptions& options, const Scene& scene) {
+int run_headless(const AppOptions& options, const Scene& scene, double load_ms) {
   const RenderParams& params = options.render;
   RenderScene rs = make_render_scene(scene);
   for (const std::string& w : scene.warnings)
@@ -58,6 +58,7 @@ int run_headless(const AppOptions& options, const Scene& scene) {
   Renderer renderer(params.threads);
   Film film(params.width, params.height);
   RunSummary run;
+  run.load_ms = load_ms;
   run.threads = renderer.thread_count();
   const bool progress = ::isatty(STDERR_FILENO);
   const int frames_total = options.frames.value_or(0);  // 0: until the time limit
