@@ -51,8 +51,8 @@ std::shared_ptr<const RenderGeometry> make_render_geometry(const Scene& scene, c
   auto clamp_material = [&](uint32_t m) { return m < material_count ? m : 0u; };
   AABB bounds;
   for (const Mesh& mesh : scene.meshes)
-    for (vec3 p : mesh.positions)
-      if (is_finite(p)) bounds.extend(p);
+    for (uint32_t i = 0; i < mesh.positions.size(); ++i)
+      if (vec3 p = mesh.world_position(i); is_finite(p)) bounds.extend(p);
   for (const Quad& q : scene.quads) {
     bounds.extend(q.corner);
     bounds.extend(q.corner + q.edge1 + q.edge2);
@@ -66,9 +66,12 @@ std::shared_ptr<const RenderGeometry> make_render_geometry(const Scene& scene, c
   g.tri_material.reserve(tri_total);
   for (const Mesh& mesh : scene.meshes) {
     bool has_normals = !mesh.normal_indices.empty() && mesh.normal_indices.size() == mesh.indices.size();
+    // Mesh positions are relative to the mesh's origin (double): one rounding into the render frame, the same for
+    // every triangle sharing a vertex, so shared edges stay bit-identical (watertight) far from the world origin.
+    const dvec3 shift = mesh.origin - dvec3(o);
     for (size_t t = 0; t < mesh.indices.size(); ++t) {
       uvec3 idx = mesh.indices[t];
-      for (int k = 0; k < 3; ++k) g.tri_vertices.push_back(mesh.positions[idx[k]] - o);
+      for (int k = 0; k < 3; ++k) g.tri_vertices.push_back(vec3(dvec3(mesh.positions[idx[k]]) + shift));
       for (int k = 0; k < 3; ++k) {
         vec3 n(0.0f);
         if (has_normals) {

@@ -61,7 +61,7 @@ AABB Scene::bounds() const {
   AABB b;
   for (const Mesh& m : meshes)
     for (uvec3 t : m.indices)
-      for (int k = 0; k < 3; ++k) b.extend(m.positions[t[k]]);
+      for (int k = 0; k < 3; ++k) b.extend(m.world_position(t[k]));
   for (const Sphere& s : spheres) {
     b.extend(s.center - vec3(s.radius));
     b.extend(s.center + vec3(s.radius));

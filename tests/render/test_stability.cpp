@@ -22,8 +22,10 @@ Scene transformed(Scene s, float scale, vec3 offset) {
     sp.center = xf(sp.center);
     sp.radius *= scale;
   }
-  for (Mesh& m : s.meshes)
-    for (vec3& p : m.positions) p = xf(p);
+  for (Mesh& m : s.meshes) {
+    m.origin = m.origin * double(scale) + dvec3(offset);
+    for (vec3& p : m.positions) p *= scale;
+  }
   Camera& c = *s.camera;
   c.eye = xf(c.eye);
   c.target = xf(c.target);
