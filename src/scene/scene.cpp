@@ -34,7 +34,8 @@ void add_default_light(Scene& scene, const AABB& b, const Camera& cam) {
   const vec3 dir = glm::normalize(-forward + 0.8f * up + 0.3f * right);  // from the center toward the light
   float eye_distance = glm::length(cam.eye - c);
   if (!std::isfinite(eye_distance)) eye_distance = 0.0f;
-  float distance = std::max(1.25f * eye_distance, 3.0f * radius);
+  // dir's -forward part is 0.76, so 1.5 times the eye's distance puts the light behind the eye.
+  float distance = std::max(1.5f * eye_distance, 3.0f * radius);
   if (!std::isfinite(distance)) distance = 3.0f * radius;
   const float side = 2.0f * radius;
   // Edges a, b span the square with cross(a, b) = -dir: the front faces the bounds.
