@@ -190,15 +190,15 @@ PT_INLINE int tri4_test(const Tri4& blk, const WatertightRay& w, float tmax, __m
   int mask = _mm_movemask_ps(_mm_and_ps(ok, certain));
   t_out = t;
   if (unsure) {  // rare: hits within rounding of the origin are decided in double, as in intersect_triangle
-    alignas(16) float tt[4], dt[4];
+    alignas(16) float tt[4], dt[4], fd[4];
     _mm_store_ps(tt, t);
     _mm_store_ps(dt, delta_t);
+    _mm_store_ps(fd, det);
     for (int i = 0; i < 4; ++i) {
       if (!(unsure >> i & 1)) continue;
       auto vertex = [&](int k) { return vec3(blk.v[k][0][i], blk.v[k][1][i], blk.v[k][2][i]); };
-      const float refined = refine_small_t(w, vertex(0), vertex(1), vertex(2), dt[i]);
-      if (refined > 0.0f && refined < tmax) {
-        tt[i] = refined;
+      if (small_t_is_positive(w, vertex(0), vertex(1), vertex(2), dt[i], fd[i])) {
+        tt[i] = std::max(tt[i], std::numeric_limits<float>::denorm_min());
         mask |= 1 << i;
       }
     }

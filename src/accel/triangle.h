@@ -36,15 +36,15 @@ struct TriangleHit {
   float b0, b1, b2;
 };
 
-/// The hit distance of a hit whose float t is within its rounding bound `delta_t` of 0, recomputed in double from
-/// the same float inputs (vertices, origin and the ray's shear): positive (as a float) when the hit is certainly
-/// in front of the origin, else 0. The float test alone rejects such hits (pbrt-v4 section 6.8.4), which is right
+/// Whether a hit whose float t is within its rounding bound `delta_t` of 0 is in front of the origin, decided by
+/// recomputing t in double from the same float inputs (vertices, origin and the ray's shear). The hit keeps its
+/// float t (at least the smallest positive float), so the scalar and the 4-lane tests still agree bit for bit. The float test alone rejects such hits (pbrt-v4 section 6.8.4), which is right
 /// for the triangle a ray was spawned from, but a ray leaving a surface at a grazing angle near an edge meets the
 /// neighbouring triangle a little further on, where 1/det makes delta_t large: rejecting that hit let the ray
 /// pass through the closed surface (issue 13: light seen from inside a closed mesh). In double the same error
 /// bound is 2^-29 of delta_t; 2^-28 leaves a margin. The spawning triangle's true t is negative by the spawn
 /// offset over the cosine, far beyond that bound, so it stays rejected.
-inline float refine_small_t(const WatertightRay& w, vec3 p0, vec3 p1, vec3 p2, float delta_t) {
+inline bool small_t_is_positive(const WatertightRay& w, vec3 p0, vec3 p1, vec3 p2, float delta_t, float det_f) {
   const dvec3 o(w.org);
   const dvec3 a = dvec3(p0) - o, b = dvec3(p1) - o, c = dvec3(p2) - o;
   const double sx = w.sx, sy = w.sy, sz = w.sz;
@@ -54,9 +54,12 @@ inline float refine_small_t(const WatertightRay& w, vec3 p0, vec3 p1, vec3 p2, f
   const double cx = c[w.kx] + sx * cz, cy = c[w.ky] + sy * cz;
   const double e0 = bx * cy - by * cx, e1 = cx * ay - cy * ax, e2 = ax * by - ay * bx;
   const double det = e0 + e1 + e2;
-  if (det == 0.0) return 0.0f;
+  if (det == 0.0) return false;
   const double t = (e0 * az + e1 * bz + e2 * cz) * sz / det;
-  return t > double(delta_t) * 0x1p-28 ? std::max(float(t), std::numeric_limits<float>::denorm_min()) : 0.0f;
+  // delta_t is proportional to 1/|det_f|; the double bound to 1/|det|. A (nearly) degenerate triangle, whose float
+  // det is rounding noise, gets a huge bound and stays rejected.
+  const double bound = double(delta_t) * std::abs(double(det_f)) / std::abs(det) * 0x1p-28;
+  return t > bound;
 }
 
 /// Tests triangle (p0, p1, p2) against the ray for t in (0, tmax). Both sides are hit.
@@ -96,8 +99,8 @@ inline bool intersect_triangle(const WatertightRay& w, float tmax, vec3 p0, vec3
   float max_e = max_component(glm::abs(vec3(e0, e1, e2)));
   float delta_t = 3.0f * (gamma_bound(3) * max_e * max_zt + delta_e * max_zt + delta_z * max_e) * std::abs(inv_det);
   if (t <= delta_t) {
-    t = refine_small_t(w, p0, p1, p2, delta_t);
-    if (!(t > 0.0f) || !(t < tmax)) return false;
+    if (!small_t_is_positive(w, p0, p1, p2, delta_t, det)) return false;
+    t = std::max(t, std::numeric_limits<float>::denorm_min());
   }
   out = {t, e0 * inv_det, e1 * inv_det, e2 * inv_det};
   return true;

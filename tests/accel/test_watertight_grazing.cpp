@@ -2,7 +2,7 @@
 // on, where the triangle test's rounding bound on t (pbrt-v4 section 6.8.4) is large because det is small. The
 // float test alone rejected that hit as "maybe behind the origin" and the ray passed through the surface: from
 // inside a closed torus-knot tube, 1 path in ~10^5 escaped to the background (issue 13). Such hits are now decided
-// in double (refine_small_t); the triangle a ray was spawned from must still never be hit.
+// in double (small_t_is_positive); the triangle a ray was spawned from must still never be hit.
 #include <gtest/gtest.h>
 
 #include "accel/bvh8.h"
