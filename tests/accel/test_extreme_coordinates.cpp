@@ -31,7 +31,9 @@ TEST(ExtremeCoordinates, NonFiniteRaysTraverseSafely) {
       for (vec3 d : dirs) {
         Ray ray{o, d, kInfinity};
         Hit hit;
-        if (intersect_closest(g, ray, hit)) EXPECT_LT(hit.prim, 21u);
+        if (intersect_closest(g, ray, hit)) {
+          EXPECT_LT(hit.prim, 21u);
+        }
         (void)intersect_any(g, Ray{o, d, kInfinity});
       }
   }
