@@ -185,12 +185,29 @@ PT_INLINE int tri4_test(const Tri4& blk, const WatertightRay& w, float tmax, __m
                                        _mm_mul_ps(delta_e, max_zt)),
                             _mm_mul_ps(delta_z, max_e))),
       abs(inv_det));
-  ok = _mm_and_ps(ok, _mm_cmpgt_ps(t, delta_t));
+  const __m128 certain = _mm_cmpgt_ps(t, delta_t);
+  const int unsure = _mm_movemask_ps(_mm_andnot_ps(certain, ok));
+  int mask = _mm_movemask_ps(_mm_and_ps(ok, certain));
   t_out = t;
+  if (unsure) {  // rare: hits within rounding of the origin are decided in double, as in intersect_triangle
+    alignas(16) float tt[4], dt[4], fd[4];
+    _mm_store_ps(tt, t);
+    _mm_store_ps(dt, delta_t);
+    _mm_store_ps(fd, det);
+    for (int i = 0; i < 4; ++i) {
+      if (!(unsure >> i & 1)) continue;
+      auto vertex = [&](int k) { return vec3(blk.v[k][0][i], blk.v[k][1][i], blk.v[k][2][i]); };
+      if (small_t_is_positive(w, vertex(0), vertex(1), vertex(2), dt[i], fd[i])) {
+        tt[i] = std::max(tt[i], std::numeric_limits<float>::denorm_min());
+        mask |= 1 << i;
+      }
+    }
+    t_out = _mm_load_ps(tt);
+  }
   e1_out = e1;
   e2_out = e2;
   inv_det_out = inv_det;
-  return _mm_movemask_ps(ok);
+  return mask;
 }
 
 PT_INLINE Tri4Hit closest_in_block(const Tri4& blk, const WatertightRay& w, float tmax) {
@@ -278,7 +295,9 @@ bool traverse(const Bvh8& bvh, Ray& ray, uint32_t* prim, float* b1, float* b2) {
         continue;
       }
     }
-    // A leaf: ceil(n / 4) blocks.
+    // A leaf: ceil(n / 4) blocks. An unused slot's empty box is entered when every distance of the node test is
+    // NaN (coordinates near 1e30 times a large 1/dir overflow to inf, and inf - inf leaves the interval open).
+    if (cur == kEmptyChild) goto pop;
     {
       const uint32_t first_block = leaf_first(cur), end_block = first_block + leaf_count(cur) * kBlockUnits;
       for (uint32_t k = first_block; k < end_block; k += kBlockUnits) {

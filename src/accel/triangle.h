@@ -2,6 +2,9 @@
 /// Watertight ray-triangle intersection (Woop, Benthin and Wald 2013, "Watertight Ray/Triangle Intersection",
 /// JCGT 2(1); pbrt-v4 section 6.5.3). Rays through a shared edge or vertex hit at least one of the triangles that
 /// share it, so closed meshes do not leak.
+#include <algorithm>
+#include <limits>
+
 #include "core/ray.h"
 
 namespace pt {
@@ -32,6 +35,32 @@ struct TriangleHit {
   float t;
   float b0, b1, b2;
 };
+
+/// Whether a hit whose float t is within its rounding bound `delta_t` of 0 is in front of the origin, decided by
+/// recomputing t in double from the same float inputs (vertices, origin and the ray's shear). The hit keeps its
+/// float t (at least the smallest positive float), so the scalar and the 4-lane tests still agree bit for bit. The float test alone rejects such hits (pbrt-v4 section 6.8.4), which is right
+/// for the triangle a ray was spawned from, but a ray leaving a surface at a grazing angle near an edge meets the
+/// neighbouring triangle a little further on, where 1/det makes delta_t large: rejecting that hit let the ray
+/// pass through the closed surface (issue 13: light seen from inside a closed mesh). In double the same error
+/// bound is 2^-29 of delta_t; 2^-28 leaves a margin. The spawning triangle's true t is negative by the spawn
+/// offset over the cosine, far beyond that bound, so it stays rejected.
+inline bool small_t_is_positive(const WatertightRay& w, vec3 p0, vec3 p1, vec3 p2, float delta_t, float det_f) {
+  const dvec3 o(w.org);
+  const dvec3 a = dvec3(p0) - o, b = dvec3(p1) - o, c = dvec3(p2) - o;
+  const double sx = w.sx, sy = w.sy, sz = w.sz;
+  const double az = a[w.kz], bz = b[w.kz], cz = c[w.kz];
+  const double ax = a[w.kx] + sx * az, ay = a[w.ky] + sy * az;
+  const double bx = b[w.kx] + sx * bz, by = b[w.ky] + sy * bz;
+  const double cx = c[w.kx] + sx * cz, cy = c[w.ky] + sy * cz;
+  const double e0 = bx * cy - by * cx, e1 = cx * ay - cy * ax, e2 = ax * by - ay * bx;
+  const double det = e0 + e1 + e2;
+  if (det == 0.0) return false;
+  const double t = (e0 * az + e1 * bz + e2 * cz) * sz / det;
+  // delta_t is proportional to 1/|det_f|; the double bound to 1/|det|. A (nearly) degenerate triangle, whose float
+  // det is rounding noise, gets a huge bound and stays rejected.
+  const double bound = double(delta_t) * std::abs(double(det_f)) / std::abs(det) * 0x1p-28;
+  return t > bound;
+}
 
 /// Tests triangle (p0, p1, p2) against the ray for t in (0, tmax). Both sides are hit.
 inline bool intersect_triangle(const WatertightRay& w, float tmax, vec3 p0, vec3 p1, vec3 p2, TriangleHit& out) {
@@ -69,7 +98,10 @@ inline bool intersect_triangle(const WatertightRay& w, float tmax, vec3 p0, vec3
   float delta_e = 2.0f * (gamma_bound(2) * max_xt * max_yt + delta_y * max_xt + delta_x * max_yt);
   float max_e = max_component(glm::abs(vec3(e0, e1, e2)));
   float delta_t = 3.0f * (gamma_bound(3) * max_e * max_zt + delta_e * max_zt + delta_z * max_e) * std::abs(inv_det);
-  if (t <= delta_t) return false;
+  if (t <= delta_t) {
+    if (!small_t_is_positive(w, p0, p1, p2, delta_t, det)) return false;
+    t = std::max(t, std::numeric_limits<float>::denorm_min());
+  }
   out = {t, e0 * inv_det, e1 * inv_det, e2 * inv_det};
   return true;
 }

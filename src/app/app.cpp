@@ -1,5 +1,6 @@
 #include "app/app.h"
 
+#include <chrono>
 #include <cstdio>
 
 #include "dist/cluster.h"
@@ -26,6 +27,7 @@ int run_app(int argc, const char* const* argv) {
   if (options.render.threads == 0) options.render.threads = cluster->default_threads();
   if (cluster->ranks() > 1 && !options.headless())
     return report_error(*cluster, "under mpirun ptview renders headless only: add --frames N or --time-limit S");
+  const auto load_start = std::chrono::steady_clock::now();
   Result<Scene> scene = options.scene_path.empty() ? load_builtin_scene(kDefaultSceneName)
                                                    : load_scene(options.scene_path);
   std::string load_error;
@@ -34,12 +36,14 @@ int run_app(int argc, const char* const* argv) {
     // Every rank reads the scene itself; a file only rank 0's machine has is the usual cluster mistake.
     if (cluster->ranks() > 1) load_error += " (every MPI rank loads the scene: it must exist at this path on every node)";
   }
+  const double load_ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - load_start).count();
   if (std::string err = cluster->first_error(load_error); !err.empty()) return report_error(*cluster, err);
   if (options.camera) {
     if (std::string e = select_camera(*scene, size_t(*options.camera)); !e.empty())
       return report_error(*cluster, "--camera: " + e);
   }
-  if (options.headless()) return run_headless(options, *scene, *cluster);
+  if (options.headless()) return run_headless(options, *scene, *cluster, load_ms);
 #ifdef PTVIEW_HAS_VIEWER
   return run_viewer(options.render, options.display, options.viewer, std::move(*scene));
 #else

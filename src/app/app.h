@@ -13,7 +13,8 @@ int run_app(int argc, const char* const* argv);
 
 /// Renders options.frames frames (or until the time limit) without a window, writes outputs; returns exit code.
 /// With several ranks (src/dist), each renders its share of the frames and rank 0 writes the outputs.
-int run_headless(const AppOptions& options, const Scene& scene, Cluster& cluster);
+/// `load_ms`: how long reading and parsing the scene took (the caller loaded it), reported as the stats' load_ms.
+int run_headless(const AppOptions& options, const Scene& scene, Cluster& cluster, double load_ms = 0.0);
 
 /// Root-mean-square error and relative MSE (mean of (x - r)^2 / (r^2 + 0.01) over pixels and channels).
 struct ImageError {

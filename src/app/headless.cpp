@@ -135,7 +135,7 @@ LoopResult render_sharded(const AppOptions& options, const RenderScene& rs, Rend
 
 }  // namespace
 
-int run_headless(const AppOptions& options, const Scene& scene, Cluster& cluster) {
+int run_headless(const AppOptions& options, const Scene& scene, Cluster& cluster, double load_ms) {
   const RenderParams& params = options.render;
   if (cluster.ranks() > 1 && (options.adaptive.enabled() || options.max_spp))
     return report_error(cluster, "--noise-threshold and --max-spp are not supported under mpirun yet: use --frames "
@@ -164,6 +164,7 @@ int run_headless(const AppOptions& options, const Scene& scene, Cluster& cluster
 
   Renderer renderer(params.threads);
   RunSummary run;
+  run.load_ms = load_ms;
   run.threads = renderer.thread_count();
   LoopResult result = cluster.ranks() > 1
                           ? render_sharded(options, rs, renderer, run, error_csv, reference, cluster)

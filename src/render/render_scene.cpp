@@ -51,8 +51,8 @@ std::shared_ptr<const RenderGeometry> make_render_geometry(const Scene& scene, c
   auto clamp_material = [&](uint32_t m) { return m < material_count ? m : 0u; };
   AABB bounds;
   for (const Mesh& mesh : scene.meshes)
-    for (vec3 p : mesh.positions)
-      if (is_finite(p)) bounds.extend(p);
+    for (uint32_t i = 0; i < mesh.positions.size(); ++i)
+      if (vec3 p = mesh.world_position(i); is_finite(p)) bounds.extend(p);
   for (const Quad& q : scene.quads) {
     bounds.extend(q.corner);
     bounds.extend(q.corner + q.edge1 + q.edge2);
@@ -66,9 +66,12 @@ std::shared_ptr<const RenderGeometry> make_render_geometry(const Scene& scene, c
   g.tri_material.reserve(tri_total);
   for (const Mesh& mesh : scene.meshes) {
     bool has_normals = !mesh.normal_indices.empty() && mesh.normal_indices.size() == mesh.indices.size();
+    // Mesh positions are relative to the mesh's origin (double): one rounding into the render frame, the same for
+    // every triangle sharing a vertex, so shared edges stay bit-identical (watertight) far from the world origin.
+    const dvec3 shift = mesh.origin - dvec3(o);
     for (size_t t = 0; t < mesh.indices.size(); ++t) {
       uvec3 idx = mesh.indices[t];
-      for (int k = 0; k < 3; ++k) g.tri_vertices.push_back(mesh.positions[idx[k]] - o);
+      for (int k = 0; k < 3; ++k) g.tri_vertices.push_back(vec3(dvec3(mesh.positions[idx[k]]) + shift));
       for (int k = 0; k < 3; ++k) {
         vec3 n(0.0f);
         if (has_normals) {
@@ -124,9 +127,11 @@ std::shared_ptr<const RenderGeometry> refit_render_geometry(const RenderGeometry
   if (scene.triangle_count() != g.triangle_count() || scene.spheres.size() != g.spheres.size()) return out;
   const vec3 o = g.origin;
   vec3* v = g.tri_vertices.data();
-  for (const Mesh& mesh : scene.meshes)
+  for (const Mesh& mesh : scene.meshes) {
+    const dvec3 shift = mesh.origin - dvec3(o);  // exactly as make_render_geometry, so a refit equals a rebuild
     for (uvec3 idx : mesh.indices)
-      for (int k = 0; k < 3; ++k) *v++ = mesh.positions[idx[k]] - o;
+      for (int k = 0; k < 3; ++k) *v++ = vec3(dvec3(mesh.positions[idx[k]]) + shift);
+  }
   for (const Quad& q : scene.quads)
     for (vec3 p : quad_triangles(q, o)) *v++ = p;
   for (size_t s = 0; s < scene.spheres.size(); ++s) g.spheres[s] = {scene.spheres[s].center - o, scene.spheres[s].radius};
@@ -145,6 +150,14 @@ SurfaceHit make_surface_hit(const RenderScene& rs, const Ray& ray, const Hit& hi
     vec3 err = gamma_bound(7) * (glm::abs(b0 * v[0]) + glm::abs(hit.b1 * v[1]) + glm::abs(hit.b2 * v[2]));
     vec3 ng = glm::cross(v[1] - v[0], v[2] - v[0]);
     float len = glm::length(ng);
+    if (!std::isfinite(len)) {
+      // The edges or their cross product overflow float (coordinates beyond ~1e19): a NaN normal gave the bounce
+      // ray a NaN direction (found by fuzz_render). Double has the range.
+      dvec3 c = glm::cross(dvec3(v[1]) - dvec3(v[0]), dvec3(v[2]) - dvec3(v[0]));
+      double dl = glm::length(c);
+      ng = dl > 0.0 && std::isfinite(dl) ? vec3(c / dl) : vec3(0.0f);
+      len = dl > 0.0 && std::isfinite(dl) ? 1.0f : 0.0f;
+    }
     ng = len > 0.0f ? ng / len : -ray.dir;
     sh.sp = {p, err, ng};
     const vec3* n = &g.tri_normals[3 * t];

@@ -39,7 +39,7 @@ std::string fmt(float v) {
   return b;
 }
 
-/// The mesh as OBJ text (world positions, shading normals, usemtl per run of faces) and its MTL.
+/// The mesh as OBJ text (positions relative to the mesh origin, shading normals, usemtl per run of faces) and its MTL.
 void mesh_obj(const Scene& s, const Mesh& mesh, const std::string& mtl_name, std::string& obj, std::string& mtl) {
   obj = "# written by ptview's save scene\nmtllib " + mtl_name + "\n";
   for (vec3 p : mesh.positions) obj += "v " + fmt(p.x) + " " + fmt(p.y) + " " + fmt(p.z) + "\n";
@@ -119,6 +119,9 @@ std::optional<Error> save_scene_json(const Scene& s, const std::vector<Material>
       if (auto err = write_file_atomic((dir / (stem + ".mtl")).string(), mtl)) return err;
       if (auto err = write_file_atomic((dir / (stem + ".obj")).string(), obj)) return err;
       shape["file"] = stem + ".obj";
+      // The OBJ holds the positions relative to the mesh's origin (scene.h), which comes back as a translation.
+      if (mesh.origin != dvec3(0.0))
+        shape["transform"] = {{"translate", ordered::array({mesh.origin.x, mesh.origin.y, mesh.origin.z})}};
     }
     shapes.push_back(shape);
   }

@@ -17,26 +17,41 @@ double irradiance_per_radiance(double w, double d, double h) {
   return 2.0 * (x / sx * std::atan(y / sx) + y / sy * std::atan(x / sy));
 }
 
-/// Adds a downward-facing rectangle light centred above `b`: at height hi.y + half the largest extent, half as
-/// wide as the bounds in x and z (at least a quarter of the largest extent, so flat bounds still get a light), and
-/// bright enough for an irradiance of 2 at the center of the bounds' top.
-void add_default_light(Scene& scene, const AABB& b) {
-  vec3 extent = b.extent();
-  float largest = max_component(extent) > 0.0f ? max_component(extent) : 1.0f;
-  float h = 0.5f * largest;
-  float w = std::max(0.5f * extent.x, 0.25f * largest), d = std::max(0.5f * extent.z, 0.25f * largest);
+/// Adds a square rectangle light that lights what the camera sees, as a photographer's key light: above and behind
+/// the camera (and a little to its right), facing the center of the bounds, outside their bounding sphere, its side
+/// as long as the bounds' diameter, and bright enough for an irradiance of 2 at that center (a diffuse 0.8 surface
+/// facing it then shows radiance ~0.5). A light straight above the bounds left the side the camera sees unlit
+/// (issue 13: a statue's median pixel was 0.017).
+void add_default_light(Scene& scene, const AABB& b, const Camera& cam) {
+  const vec3 c = b.center();
+  float radius = 0.5f * glm::length(b.extent());
+  if (!(radius > 0.0f) || !std::isfinite(radius)) radius = 1.0f;
+  // The camera's frame (render/camera.h); a degenerate camera gets the default framing's frame.
+  vec3 forward = glm::normalize(cam.target - cam.eye);
+  vec3 right = glm::normalize(glm::cross(forward, cam.up));
+  if (!is_finite(forward) || !is_finite(right)) forward = vec3(0, 0, -1), right = vec3(1, 0, 0);
+  const vec3 up = glm::cross(right, forward);
+  const vec3 dir = glm::normalize(-forward + 0.8f * up + 0.3f * right);  // from the center toward the light
+  float eye_distance = glm::length(cam.eye - c);
+  if (!std::isfinite(eye_distance)) eye_distance = 0.0f;
+  // dir's -forward part is 0.76, so 1.5 times the eye's distance puts the light behind the eye.
+  float distance = std::max(1.5f * eye_distance, 3.0f * radius);
+  if (!std::isfinite(distance)) distance = 3.0f * radius;
+  const float side = 2.0f * radius;
+  // Edges a, b span the square with cross(a, b) = -dir: the front faces the bounds.
+  const vec3 a = side * glm::normalize(glm::cross(dir, up)), e2 = side * glm::normalize(glm::cross(a, dir));
   Material light;
   light.name = "default-light";
   light.albedo = vec3(0.0f);
-  light.emission = vec3(float(2.0 / irradiance_per_radiance(w, d, h)));
-  vec3 c = b.center();
+  light.emission = vec3(float(2.0 / irradiance_per_radiance(side, side, distance)));
   Quad q;
-  q.corner = vec3(c.x - 0.5f * w, b.hi.y + h, c.z - 0.5f * d);
-  q.edge1 = vec3(w, 0.0f, 0.0f);
-  q.edge2 = vec3(0.0f, 0.0f, d);  // cross(edge1, edge2) = -y: the front faces down
+  q.corner = c + distance * dir - 0.5f * (a + e2);
+  q.edge1 = a;
+  q.edge2 = e2;
   q.material = add_material(scene, light);
   scene.quads.push_back(q);
-  scene.warnings.push_back(scene.source + ": no light in the scene: added a default rectangle light above it");
+  scene.warnings.push_back(scene.source +
+                           ": no light in the scene: added a default rectangle light above and behind the camera");
 }
 
 bool usable(const AABB& b) { return !b.empty() && is_finite(b.lo) && is_finite(b.hi); }
@@ -47,7 +62,7 @@ AABB Scene::bounds() const {
   AABB b;
   for (const Mesh& m : meshes)
     for (uvec3 t : m.indices)
-      for (int k = 0; k < 3; ++k) b.extend(m.positions[t[k]]);
+      for (int k = 0; k < 3; ++k) b.extend(m.world_position(t[k]));
   for (const Sphere& s : spheres) {
     b.extend(s.center - vec3(s.radius));
     b.extend(s.center + vec3(s.radius));
@@ -100,7 +115,7 @@ void finalize_scene(Scene& scene) {
   AABB b = scene.bounds();
   if (!scene.camera) scene.camera = framing_camera(b);
   if (!scene.has_emitter() && !scene.background)
-    add_default_light(scene, usable(b) ? b : AABB{vec3(-1.0f), vec3(1.0f)});
+    add_default_light(scene, usable(b) ? b : AABB{vec3(-1.0f), vec3(1.0f)}, *scene.camera);
 }
 
 }  // namespace pt

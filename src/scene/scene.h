@@ -67,15 +67,22 @@ struct MeshSource {
   float degrees = 0.0f;
 };
 
-/// A triangle mesh in world space. Front side: counter-clockwise winding.
+/// A triangle mesh. Front side: counter-clockwise winding.
 struct Mesh {
   MeshSource source;
   std::string name;                    ///< file or object name, for messages and the viewer
+  /// Positions are relative to this point, which is kept in double: a small mesh translated far from the world
+  /// origin keeps float precision relative to its own size. (In world-space floats a unit mesh at 1e5 snaps to a
+  /// 1/128 grid, its thin triangles fold over, and a path spawned on a folded triangle leaves the mesh: issue 13.)
+  dvec3 origin{0.0};
   std::vector<vec3> positions;
   std::vector<uvec3> indices;          ///< one per triangle, into positions
   std::vector<vec3> normals;           ///< optional shading normals
   std::vector<uvec3> normal_indices;   ///< empty, or one per triangle into normals
   std::vector<uint32_t> materials;     ///< one per triangle, into Scene::materials
+
+  /// World-space position of vertex i, rounded to float once.
+  vec3 world_position(uint32_t i) const { return vec3(origin + dvec3(positions[i])); }
 };
 
 struct Scene {

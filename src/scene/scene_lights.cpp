@@ -175,9 +175,22 @@ LightPlacement light_placement(const Scene& scene, const SceneLight& light) {
       pl.size = vec2(2.0f * s.radius);
       return pl;
     }
-    case SceneLightKind::triangles: return triangle_placement(scene.meshes[light.shape], light);
+    case SceneLightKind::triangles: {
+      // Mesh positions are relative to the mesh's origin (kept in double); the placement is in world space.
+      const Mesh& mesh = scene.meshes[light.shape];
+      pl = triangle_placement(mesh, light);
+      pl.center = vec3(mesh.origin + dvec3(pl.center));
+      return pl;
+    }
   }
   return pl;
+}
+
+/// A light's placement in the frame its shape stores coordinates in: the mesh's (origin-relative) frame for
+/// triangles, world space for quads and spheres. Resizing and scaling work about the center in that frame.
+static LightPlacement stored_placement(const Scene& scene, const SceneLight& light) {
+  if (light.kind == SceneLightKind::triangles) return triangle_placement(scene.meshes[light.shape], light);
+  return light_placement(scene, light);
 }
 
 std::string light_label(const Scene& scene, const SceneLight& light) {
@@ -207,7 +220,7 @@ void move_light(Scene& scene, SceneLight& light, vec3 center) {
 bool resize_light(Scene& scene, SceneLight& light, vec2 size) {
   if (light.kind == SceneLightKind::sphere || !(size.x > 0.0f) || !(size.y > 0.0f) || !is_finite(vec3(size, 0.0f)))
     return false;
-  LightPlacement pl = light_placement(scene, light);
+  LightPlacement pl = stored_placement(scene, light);
   if (light.kind == SceneLightKind::quad) {
     Quad& q = scene.quads[light.shape];
     q.edge1 = pl.u * size.x;
@@ -228,7 +241,7 @@ bool resize_light(Scene& scene, SceneLight& light, vec2 size) {
 
 bool scale_light(Scene& scene, SceneLight& light, float factor) {
   if (!(factor > 0.0f) || !std::isfinite(factor)) return false;
-  LightPlacement pl = light_placement(scene, light);
+  LightPlacement pl = stored_placement(scene, light);
   switch (light.kind) {
     case SceneLightKind::quad: {
       Quad& q = scene.quads[light.shape];

@@ -2,31 +2,32 @@
 
 namespace pt {
 
-mat3 rotation_matrix(vec3 axis, float degrees) {
-  vec3 k = glm::normalize(axis);
-  float a = glm::radians(degrees), s = std::sin(a), c = std::cos(a);
+glm::dmat3 rotation_matrix(vec3 axis, float degrees) {
+  dvec3 k = glm::normalize(dvec3(axis));
+  double a = glm::radians(double(degrees)), s = std::sin(a), c = std::cos(a);
   // Cross-product matrix of k, column by column (GLM is column-major): K v = k x v.
-  mat3 K(0.0f, k.z, -k.y, -k.z, 0.0f, k.x, k.y, -k.x, 0.0f);
-  return mat3(1.0f) + s * K + (1.0f - c) * (K * K);
+  glm::dmat3 K(0.0, k.z, -k.y, -k.z, 0.0, k.x, k.y, -k.x, 0.0);
+  return glm::dmat3(1.0) + s * K + (1.0 - c) * (K * K);
 }
 
 Transform make_transform(vec3 scale, vec3 axis, float degrees, vec3 translation) {
   Transform t;
-  mat3 s(scale.x, 0.0f, 0.0f, 0.0f, scale.y, 0.0f, 0.0f, 0.0f, scale.z);
+  glm::dmat3 s(scale.x, 0.0, 0.0, 0.0, scale.y, 0.0, 0.0, 0.0, scale.z);
   t.linear = rotation_matrix(axis, degrees) * s;
-  t.translation = translation;
+  t.translation = dvec3(translation);
   return t;
 }
 
 void apply_transform(Mesh& mesh, const Transform& t) {
-  for (vec3& p : mesh.positions) p = t.linear * p + t.translation;
-  mat3 normal_matrix = glm::transpose(glm::inverse(t.linear));
+  mesh.origin = t.linear * mesh.origin + t.translation;
+  for (vec3& p : mesh.positions) p = vec3(t.linear * dvec3(p));
+  glm::dmat3 normal_matrix = glm::transpose(glm::inverse(t.linear));
   for (vec3& n : mesh.normals) {
-    vec3 m = normal_matrix * n;
+    vec3 m = vec3(normal_matrix * dvec3(n));
     float len = glm::length(m);
     n = len > 0.0f && std::isfinite(len) ? m / len : vec3(0.0f);
   }
-  if (glm::determinant(t.linear) < 0.0f) {
+  if (glm::determinant(t.linear) < 0.0) {
     for (uvec3& tri : mesh.indices) std::swap(tri.y, tri.z);
     for (uvec3& tri : mesh.normal_indices) std::swap(tri.y, tri.z);
   }

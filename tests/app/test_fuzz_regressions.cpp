@@ -1,11 +1,13 @@
 // Every input the fuzzers ever crashed on (tests/data/bad/fuzz-<target>-*) stays fixed: it loads or gives exactly
-// one error line. The harness logic matches fuzz/fuzz_*.cpp.
+// one error line; fuzz_render's inputs also build and render finite within their ray budget. The harness logic
+// matches fuzz/fuzz_*.cpp (fuzz_render's is shared: fuzz/fuzz_render.h).
 #include <gtest/gtest.h>
 
 #include <filesystem>
 #include <fstream>
 
 #include "../../fuzz/fuzz_args.h"
+#include "../../fuzz/fuzz_render.h"
 #include "app/options.h"
 #include "run_exe.h"
 #include "render/renderer.h"
@@ -87,6 +89,10 @@ bool check_input(const std::string& target, const std::string& name, const std::
       return false;
     }
     expect_valid_scene(std::move(*r), name);
+    return true;
+  }
+  if (target == "fuzz_render") {
+    EXPECT_EQ(fuzz::check_render_input(text, dir.path), "") << name;
     return true;
   }
   if (target == "fuzz_cli") {

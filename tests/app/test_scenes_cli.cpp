@@ -2,6 +2,10 @@
 // with exit code 2, the bunny renders with a default camera and light.
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
+#include <stb/stb_image.h>
+
+#include <algorithm>
+#include <fstream>
 
 #include "render/image.h"
 #include "run_exe.h"
@@ -87,6 +91,29 @@ TEST(Scenes, GltfCameraOption) {
     EXPECT_NE(r.err.find("--camera"), std::string::npos) << r.err;
     EXPECT_FALSE(fs::exists(dir / "bad.pfm"));
   }
+}
+
+TEST(Scenes, DefaultLightLightsWhatTheDefaultCameraSees) {
+  // Issue 13: a mesh without lights came out almost black (a statue's median lit pixel was 0.017) because the
+  // default light sat straight above it. The median of the object's lit pixels in the PNG must be >= 20% grey.
+  // (With the old light above the bounds this knot's median is far below: checked when this test was written.)
+  TempDir dir;
+  std::ofstream(dir / "knot.json") << R"({"shapes": [{"type": "mesh", "generate": {"kind": "torus-knot", "p": 2,
+      "q": 3, "segments": 256, "sides": 24, "radius": 1, "tube": 0.3}}]})";
+  auto r = run_ptview({dir / "knot.json", "--frames", "16", "--size", "64x64", "--out", dir / "k.png"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  int w = 0, h = 0, channels = 0;
+  unsigned char* data = stbi_load((dir / "k.png").c_str(), &w, &h, &channels, 3);
+  ASSERT_NE(data, nullptr);
+  std::vector<int> lit;
+  for (int i = 0; i < w * h; ++i) {
+    int grey = (2126 * data[3 * i] + 7152 * data[3 * i + 1] + 722 * data[3 * i + 2]) / 10000;
+    if (grey > 0) lit.push_back(grey);
+  }
+  stbi_image_free(data);
+  ASSERT_GT(lit.size(), size_t(w * h / 10));  // the knot fills a good part of the frame
+  std::nth_element(lit.begin(), lit.begin() + lit.size() / 2, lit.end());
+  EXPECT_GE(lit[lit.size() / 2], 51) << "median lit pixel of " << lit.size();  // 0.2 * 255
 }
 
 TEST(Scenes, BunnyRendersWithDefaultCameraAndLight) {

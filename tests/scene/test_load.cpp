@@ -80,7 +80,7 @@ TEST(Builtin, EveryAssetIsACornellBoxWithCameraAndLight) {
     // Meshes: inside, standing on the floor (a hair above it).
     for (const Mesh& m : s.meshes) {
       AABB b;
-      for (vec3 p : m.positions) b.extend(p);
+      for (uint32_t i = 0; i < m.positions.size(); ++i) b.extend(m.world_position(i));
       EXPECT_TRUE(inside_box(b.lo) && inside_box(b.hi));
       EXPECT_GT(b.lo.y, 0.0f);
       EXPECT_LT(b.lo.y, 0.005f);

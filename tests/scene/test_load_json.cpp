@@ -54,13 +54,13 @@ TEST(LoadJson, TransformsScaleThenRotateThenTranslate) {
   ASSERT_EQ(m.positions.size(), 4u);
   for (vec3 e : expected) {
     float nearest = 1e9f;
-    for (vec3 p : m.positions) nearest = std::min(nearest, glm::length(p - e));
+    for (uint32_t i = 0; i < m.positions.size(); ++i) nearest = std::min(nearest, glm::length(m.world_position(i) - e));
     EXPECT_LT(nearest, 1e-5f) << e.x << " " << e.y << " " << e.z;
   }
   for (uint32_t id : m.materials) EXPECT_EQ(r->materials[id].name, "m");  // the override, on every face
   // The mirrored copy: x negated, and the front still faces +z like the file's counter-clockwise quad.
   const Mesh& mirrored = r->meshes[1];
-  for (vec3 p : mirrored.positions) EXPECT_LE(p.x, 0.0f);
+  for (uint32_t i = 0; i < mirrored.positions.size(); ++i) EXPECT_LE(mirrored.world_position(i).x, 0.0f);
   for (size_t t = 0; t < mirrored.indices.size(); ++t) {
     EXPECT_GT(geometric_normal(mirrored, t).z, 0.99f);
     for (int k = 0; k < 3; ++k) EXPECT_GT(mirrored.normals[mirrored.normal_indices[t][k]].z, 0.99f);
@@ -94,6 +94,27 @@ TEST(LoadJson, NormalsFollowTheInverseTransposeUnderEveryTransform) {
   }
 }
 
+TEST(LoadJson, ATranslationUpTo1e6KeepsTheMeshShapeExact) {
+  // Issue 13: positions transformed in float and stored in world space snap to the float grid there (1/16 at
+  // 1e6), which folds small triangles. The mesh keeps its origin in double and its positions relative to it.
+  TempDir dir;
+  dir.write("tri.obj", "v 0.001 0.002 0.003\nv 0.0123 0 0\nv 0 0.0456 0.0001\nf 1 2 3\n");
+  for (double offset : {1e5, 1e6}) {
+    std::string path = dir.write("scene.json", R"({"shapes": [{"type": "mesh", "file": "tri.obj", "transform":
+        {"rotate": [0, 0, 1, 90], "translate": [)" + std::to_string(offset) + ", " + std::to_string(-offset) + ", " +
+                                                   std::to_string(offset) + "]}}]}");
+    Result<Scene> r = load_scene(path);
+    ASSERT_TRUE(r.ok()) << r.error();
+    const Mesh& m = r->meshes[0];
+    // Rotation by 90 degrees about z: (x, y, z) -> (-y, x, z).
+    const dvec3 expected[3] = {{-0.002, 0.001, 0.003}, {0, 0.0123, 0}, {-0.0456, 0, 0.0001}};
+    for (int k = 0; k < 3; ++k) {
+      dvec3 relative = m.origin + dvec3(m.positions[m.indices[0][k]]) - dvec3(offset, -offset, offset);
+      EXPECT_LT(glm::length(relative - expected[k]), 1e-8) << offset << " corner " << k;
+    }
+  }
+}
+
 TEST(LoadJson, RotationIsRightHandedAboutANormalizedAxis) {
   TempDir dir;
   dir.write("tri.obj", "v 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\n");
@@ -104,7 +125,7 @@ TEST(LoadJson, RotationIsRightHandedAboutANormalizedAxis) {
   ASSERT_TRUE(r.ok()) << r.error();
   const Mesh& m = r->meshes[0];
   vec3 expected[3] = {{0, 1, 0}, {0, 0, 1}, {1, 0, 0}};
-  for (int k = 0; k < 3; ++k) EXPECT_LT(glm::length(m.positions[m.indices[0][k]] - expected[k]), 1e-5f);
+  for (int k = 0; k < 3; ++k) EXPECT_LT(glm::length(m.world_position(m.indices[0][k]) - expected[k]), 1e-5f);
 }
 
 TEST(LoadJson, GeneratedKnotKeepsItsOutsideUnderAMirroringTransform) {
@@ -120,7 +141,7 @@ TEST(LoadJson, GeneratedKnotKeepsItsOutsideUnderAMirroringTransform) {
   EXPECT_EQ(inward, 0u);
   // Laid flat by the rotation: its symmetry axis is now y, so it is thin in y around the translation.
   AABB b;  // of the mesh alone (the scene also has the default light above it)
-  for (vec3 p : m.positions) b.extend(p);
+  for (uint32_t i = 0; i < m.positions.size(); ++i) b.extend(m.world_position(i));
   EXPECT_NEAR(b.center().y, 0.5f, 0.02f);
   EXPECT_LT(b.extent().y, 1.45f);
   EXPECT_GT(b.extent().x, 3.0f);

@@ -1,5 +1,6 @@
 // Scene-level facts: bounds, which materials count as emitters, and finalize_scene's default camera (frames the
-// bounds) and default light (only without emitter and background; irradiance about 2 at the top of the bounds).
+// bounds) and default light (only without emitter and background; a key light above and behind the camera with an
+// irradiance of about 2 at the center of the bounds).
 #include <gtest/gtest.h>
 
 #include "scene/scene.h"
@@ -15,9 +16,9 @@ Scene scene_with_sphere(vec3 center, float radius) {
   return s;
 }
 
-/// Irradiance on an upward-facing point `x` from the emissive quads of `s`, by midpoint quadrature over each quad
+/// Irradiance on a point `x` facing `up` from the emissive quads of `s`, by midpoint quadrature over each quad
 /// (E = integral of L cos(theta) cos(theta') / r^2 dA), independent of how finalize_scene chose the radiance.
-double irradiance_from_quads(const Scene& s, vec3 x) {
+double irradiance_from_quads(const Scene& s, vec3 x, dvec3 up = dvec3(0, 1, 0)) {
   double e = 0.0;
   const int n = 400;
   for (const Quad& q : s.quads) {
@@ -31,7 +32,7 @@ double irradiance_from_quads(const Scene& s, vec3 x) {
         dvec3 d = y - dvec3(x);
         double r2 = glm::dot(d, d);
         dvec3 w = d / std::sqrt(r2);
-        double cos_receiver = std::max(0.0, w.y), cos_emitter = std::max(0.0, -glm::dot(w, normal));
+        double cos_receiver = std::max(0.0, glm::dot(w, up)), cos_emitter = std::max(0.0, -glm::dot(w, normal));
         e += m.emission.x * cos_receiver * cos_emitter / r2 * area / (n * n);
       }
   }
@@ -103,38 +104,44 @@ TEST(Finalize, KeepsAGivenCamera) {
   EXPECT_TRUE(s.quads.empty());
 }
 
-TEST(Finalize, DefaultLightAboveFacingDownWithIrradianceAboutTwo) {
-  for (vec3 half : {vec3(1.0f), vec3(3.0f, 0.5f, 0.2f), vec3(0.01f, 2.0f, 0.01f), vec3(5.0f, 0.0f, 5.0f)}) {
-    SCOPED_TRACE(::testing::Message() << half.x << " " << half.y << " " << half.z);
-    Scene s;
-    s.source = "box.obj";
-    s.materials.push_back(Material{"grey"});
-    s.quads.push_back({vec3(-half.x, -half.y, -half.z), vec3(2 * half.x, 0, 0), vec3(0, 2 * half.y, 2 * half.z), 0});
-    AABB before = s.bounds();
-    finalize_scene(s);
-    ASSERT_EQ(s.quads.size(), 2u);
-    const Quad& q = s.quads[1];
-    const Material& m = s.materials[q.material];
-    EXPECT_TRUE(m.emissive());
-    EXPECT_EQ(m.albedo, vec3(0.0f));  // the light's back does not reflect
-    vec3 n = glm::cross(q.edge1, q.edge2);
-    EXPECT_GT(glm::length(n), 0.0f);  // positive size even for flat bounds
-    EXPECT_LT(n.y, 0.0f);             // faces down
-    EXPECT_EQ(n.x, 0.0f);
-    EXPECT_EQ(n.z, 0.0f);
-    vec3 center = q.corner + 0.5f * (q.edge1 + q.edge2);
-    EXPECT_NEAR(center.x, before.center().x, 1e-5f);
-    EXPECT_NEAR(center.z, before.center().z, 1e-5f);
-    float largest = max_component(before.extent());
-    EXPECT_NEAR(center.y, before.hi.y + 0.5f * largest, 1e-5f);
-    double e = irradiance_from_quads(s, vec3(before.center().x, before.hi.y, before.center().z));
-    EXPECT_NEAR(e, 2.0, 0.02);
-    ASSERT_EQ(s.warnings.size(), 1u);
-    EXPECT_EQ(s.warnings[0], "box.obj: no light in the scene: added a default rectangle light above it");
-    // Finalizing again adds nothing: the scene has a light now.
-    finalize_scene(s);
-    EXPECT_EQ(s.quads.size(), 2u);
-  }
+TEST(Finalize, DefaultLightIsAKeyLightAboveAndBehindTheCamera) {
+  // Issue 13: the light must light the side the camera sees. Default framing cameras and given ones, flat bounds.
+  const Camera side_view{vec3(40, 3, -2), vec3(0.5f, 0, 0), vec3(0, 1, 0), 30.0f};
+  for (vec3 half : {vec3(1.0f), vec3(3.0f, 0.5f, 0.2f), vec3(0.01f, 2.0f, 0.01f), vec3(5.0f, 0.0f, 5.0f)})
+    for (bool given_camera : {false, true}) {
+      SCOPED_TRACE(::testing::Message() << half.x << " " << half.y << " " << half.z << " camera " << given_camera);
+      Scene s;
+      s.source = "box.obj";
+      s.materials.push_back(Material{"grey"});
+      s.quads.push_back({vec3(-half.x, -half.y, -half.z), vec3(2 * half.x, 0, 0), vec3(0, 2 * half.y, 2 * half.z), 0});
+      if (given_camera) s.camera = side_view;
+      AABB before = s.bounds();
+      finalize_scene(s);
+      ASSERT_EQ(s.quads.size(), 2u);
+      const Quad& q = s.quads[1];
+      const Material& m = s.materials[q.material];
+      EXPECT_TRUE(m.emissive());
+      EXPECT_EQ(m.albedo, vec3(0.0f));  // the light's back does not reflect
+      const Camera& cam = *s.camera;
+      vec3 forward = glm::normalize(cam.target - cam.eye);
+      vec3 up = glm::cross(glm::normalize(glm::cross(forward, cam.up)), forward);
+      vec3 center = q.corner + 0.5f * (q.edge1 + q.edge2), c = before.center();
+      vec3 n = glm::cross(q.edge1, q.edge2);
+      float radius = 0.5f * glm::length(before.extent());
+      EXPECT_GT(glm::dot(n, c - center), 0.0f);                   // faces the bounds
+      EXPECT_GT(glm::dot(center - cam.eye, up), 0.0f);            // above the camera
+      EXPECT_LT(glm::dot(center - cam.eye, forward), 0.0f);       // behind it
+      EXPECT_GT(glm::length(center - c), 2.0f * radius);          // clear of the bounds
+      EXPECT_NEAR(glm::length(q.edge1), 2.0f * radius, 1e-4f);  // sized to the bounds
+      EXPECT_NEAR(glm::length(q.edge2), 2.0f * radius, 1e-4f);
+      double e = irradiance_from_quads(s, c, glm::normalize(dvec3(center - c)));
+      EXPECT_NEAR(e, 2.0, 0.02);
+      ASSERT_EQ(s.warnings.size(), 1u);
+      EXPECT_EQ(s.warnings[0], "box.obj: no light in the scene: added a default rectangle light above and behind the camera");
+      // Finalizing again adds nothing: the scene has a light now.
+      finalize_scene(s);
+      EXPECT_EQ(s.quads.size(), 2u);
+    }
 }
 
 TEST(Finalize, AnEmptySceneGetsASaneCameraAndLight) {
