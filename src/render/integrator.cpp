@@ -14,7 +14,9 @@ struct PrevVertex {
 };
 
 /// The random numbers one path vertex consumes, drawn together so every vertex uses the same sampler dimensions
-/// whatever branch it takes (this keeps low-discrepancy dimensions aligned across a pixel's samples).
+/// whatever branch it takes (this keeps low-discrepancy dimensions aligned across a pixel's samples). Two 4D
+/// draws: what light sampling needs, and what BSDF sampling needs, each with its 2D point in the two best
+/// stratified dimensions (Cycles groups them the same way).
 struct VertexSamples {
   float light_choice;
   vec2 light_point;
@@ -23,12 +25,15 @@ struct VertexSamples {
   float roulette;
 
   static VertexSamples draw(PixelSampler& s) {
+    float a[4], b[3];
+    s.next<4>(a);
+    s.next<3>(b);
     VertexSamples v;
-    v.light_choice = s.next1d();
-    v.light_point = s.next2d();
-    v.lobe = s.next1d();
-    v.direction = s.next2d();
-    v.roulette = s.next1d();
+    v.light_point = {a[0], a[1]};
+    v.light_choice = a[2];
+    v.roulette = a[3];
+    v.direction = {b[0], b[1]};
+    v.lobe = b[2];
     return v;
   }
 };

@@ -85,6 +85,8 @@ const RectCase kRects[] = {
     {vec3(-0.45f, -0.05f, -0.48f), vec3(-0.5f, 0, -0.5f), vec3(1, 0, 0), vec3(0, 0, 1)},    // close to a corner
     {vec3(0.2f, 0.7f, 0.1f), vec3(-0.5f, 0, -0.5f), vec3(1, 0, 0), vec3(0, 0, 1)},          // above the plane
     {vec3(0.3f, 0.2f, 1.5f), vec3(0, 0, 0), vec3(0.6f, 0.8f, 0), vec3(-0.4f, 0.3f, 0.5f)},   // tilted, long-short
+    {vec3(2.5f, -0.012f, 0.1f), vec3(-0.5f, 0, -0.5f), vec3(1, 0, 0), vec3(0, 0, 1)},       // grazing: 8e-4 sr
+    {vec3(30.0f, -40.0f, 20.0f), vec3(-0.5f, 0, -0.5f), vec3(1, 0, 0), vec3(0, 0, 1)},      // tiny: ~3.7e-4 sr
 };
 
 TEST_P(SphericalRectTest, UniformInSolidAngle) {
@@ -111,7 +113,7 @@ TEST_P(SphericalRectTest, UniformInSolidAngle) {
   // The solid angle itself: the density integrates to 1 only if solid_angle is right.
   EXPECT_NEAR(r.expected_total / kSamples, 1.0, 2e-3) << "case " << GetParam();
 }
-INSTANTIATE_TEST_SUITE_P(Rects, SphericalRectTest, ::testing::Range(0, 5));
+INSTANTIATE_TEST_SUITE_P(Rects, SphericalRectTest, ::testing::Range(0, 7));
 
 TEST(Sampling, SphericalRectangleDegenerateCases) {
   SphericalRectangle sr;
