@@ -47,7 +47,7 @@ ParseOutcome parse_command_line(int argc, const char* const* argv) {
   app.set_version_flag("--version", "ptview 0.1");
   // A repeated option takes its last value, so scripts can append overrides.
   app.option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
-  std::string size = "512x512", integrator = "mis", light_sampling = "solid-angle";
+  std::string size = "512x512", integrator = "auto", light_sampling = "solid-angle";
   int frames = 0;
   double time_limit = 0;
   std::string seed = "0";
@@ -111,10 +111,11 @@ ParseOutcome parse_command_line(int argc, const char* const* argv) {
   }
   if (o.render.threads < 0 || o.render.threads > 1024) return fail("--threads: must be from 0 (all cores) to 1024");
   if (o.render.max_depth < 0 || o.render.max_depth > 1000000) return fail("--max-depth: must be from 0 to 1000000");
-  if (integrator == "mis") o.render.integrator = IntegratorKind::mis;
+  if (integrator == "auto") o.render.integrator = IntegratorKind::automatic;
+  else if (integrator == "mis") o.render.integrator = IntegratorKind::mis;
   else if (integrator == "nee") o.render.integrator = IntegratorKind::nee;
   else if (integrator == "bsdf") o.render.integrator = IntegratorKind::bsdf;
-  else return fail("--integrator: expected mis, nee or bsdf, got '" + integrator + "'");
+  else return fail("--integrator: expected auto, mis, nee or bsdf, got '" + integrator + "'");
   if (light_sampling == "area") o.render.light_sampling = LightSampling::area;
   else if (light_sampling == "solid-angle") o.render.light_sampling = LightSampling::solid_angle;
   else return fail("--light-sampling: expected area or solid-angle, got '" + light_sampling + "'");

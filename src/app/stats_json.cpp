@@ -11,6 +11,7 @@ const char* integrator_name(IntegratorKind k) {
     case IntegratorKind::mis: return "mis";
     case IntegratorKind::nee: return "nee";
     case IntegratorKind::bsdf: return "bsdf";
+    case IntegratorKind::automatic: return "auto";
   }
   return "?";
 }

@@ -146,8 +146,18 @@ vec3 trace_path_impl(const RenderScene& scene, const RenderParams& params, Ray r
   return radiance;
 }
 
-vec3 trace_path(const RenderScene& scene, const RenderParams& params, Ray ray, PixelSampler& sampler,
+IntegratorKind resolve_integrator(const RenderScene& scene, IntegratorKind kind, LightSampling light_sampling) {
+  if (kind != IntegratorKind::automatic) return kind;
+  if (light_sampling != LightSampling::solid_angle) return IntegratorKind::mis;
+  for (const Light& l : scene.lights.lights)
+    if (!(l.kind == LightKind::sphere || (l.kind == LightKind::rect && l.rectangular))) return IntegratorKind::mis;
+  return IntegratorKind::nee;
+}
+
+vec3 trace_path(const RenderScene& scene, const RenderParams& params_in, Ray ray, PixelSampler& sampler,
                 RenderCounters& c) {
+  RenderParams params = params_in;
+  params.integrator = resolve_integrator(scene, params.integrator, params.light_sampling);
   const bool delta = scene.features.has_glass || scene.features.has_specular || params.force_generic_kernel;
   const bool background = scene.features.has_background || params.force_generic_kernel;
   if (delta) {

@@ -8,7 +8,8 @@
 
 namespace pt {
 
-enum class IntegratorKind : int { mis = 0, nee = 1, bsdf = 2 };
+/// automatic (the default) picks nee or mis per scene, see resolve_integrator.
+enum class IntegratorKind : int { mis = 0, nee = 1, bsdf = 2, automatic = 3 };
 
 /// The parameters of one render: shared by the command line and the viewer.
 struct RenderParams {
@@ -16,7 +17,7 @@ struct RenderParams {
   int height = 512;
   int spp_per_frame = 1;
   int max_depth = 64;  ///< pbrt's convention: 0 = emission seen directly, 1 = plus direct lighting, ...
-  IntegratorKind integrator = IntegratorKind::mis;
+  IntegratorKind integrator = IntegratorKind::automatic;
   LightSampling light_sampling = LightSampling::solid_angle;
   SamplerKind sampler = SamplerKind::sobol;
   uint64_t seed = 0;
@@ -27,6 +28,16 @@ struct RenderParams {
 /// Radiance arriving along `ray` (from the camera). Counters are updated; the caller drops non-finite results.
 vec3 trace_path(const RenderScene& scene, const RenderParams& params, Ray ray, PixelSampler& sampler,
                 RenderCounters& counters);
+
+/// The integrator `kind` stands for in `scene`: itself, or for automatic, nee when every light is sampled in
+/// solid angle (spheres by their cone, rectangles by spherical rectangles: params.light_sampling is solid_angle)
+/// and mis otherwise. Why: the scenes have only diffuse, mirror and glass surfaces; mirror and glass cannot be
+/// light-sampled, so both strategies count emission after them in full, and at a diffuse vertex a solid-angle light
+/// sample already has a density close to the integrand, so MIS only adds the BSDF-side light_pdf evaluation and
+/// weights that move variance onto cosine-sampled hits (bench-error, issue 11: nee beat mis on every Cornell
+/// scene). Where a light is sampled by area (triangles, non-rectangular parallelograms, --light-sampling area),
+/// the light sample's density blows up near the light's plane and MIS's BSDF side is what bounds it.
+IntegratorKind resolve_integrator(const RenderScene& scene, IntegratorKind kind, LightSampling light_sampling);
 
 /// Which specialization of the path loop trace_path runs for this scene (for stats).
 const char* kernel_name(const RenderScene& scene, const RenderParams& params);

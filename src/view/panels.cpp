@@ -21,7 +21,7 @@ bool drag_vec3(const char* label, vec3& v, float speed) { return ImGui::DragFloa
 void render_panel(ViewerState& st, PanelState& ps) {
   bool changed = false;
   int integrator = int(st.params.integrator);
-  changed |= ImGui::Combo("integrator", &integrator, "mis\0nee\0bsdf\0");
+  changed |= ImGui::Combo("integrator", &integrator, "mis\0nee\0bsdf\0auto\0");
   st.params.integrator = IntegratorKind(integrator);
   int ls = int(st.params.light_sampling);
   changed |= ImGui::Combo("light sampling", &ls, "area\0solid angle\0");
