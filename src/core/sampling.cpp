@@ -33,22 +33,6 @@ vec3 sample_uniform_sphere(vec2 u) {
   return {r * std::cos(phi), r * std::sin(phi), z};
 }
 
-vec3 sample_uniform_cone(vec2 u, float cos_theta_max) {
-  // 1 - cos(theta) is uniform in [0, 1 - cos_theta_max]; computing it directly keeps tiny cones accurate.
-  float one_minus_cos_max = 1.0f - cos_theta_max;
-  float one_minus_cos = u.x * one_minus_cos_max;
-  float cos_theta = 1.0f - one_minus_cos;
-  // sin^2 = (1 - cos)(1 + cos), exact for small angles where 1 - cos^2 cancels.
-  float sin_theta = safe_sqrt(one_minus_cos * (2.0f - one_minus_cos));
-  float phi = kTwoPi * u.y;
-  return {sin_theta * std::cos(phi), sin_theta * std::sin(phi), cos_theta};
-}
-
-float uniform_cone_pdf(float cos_theta_max) {
-  float one_minus = 1.0f - cos_theta_max;
-  return one_minus > 0.0f ? 1.0f / (kTwoPi * one_minus) : kInfinity;
-}
-
 vec3 sample_uniform_triangle(vec2 u) {
   // Heitz 2019, "A Low-Distortion Map Between Triangle and Square".
   float b0, b1;

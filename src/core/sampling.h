@@ -15,14 +15,10 @@ vec2 sample_uniform_disk_concentric(vec2 u);
 vec3 sample_cosine_hemisphere(vec2 u);
 inline float cosine_hemisphere_pdf(float cos_theta) { return std::max(cos_theta, 0.0f) * kInvPi; }
 
-/// Uniform direction on the unit sphere. pdf = 1 / (4 pi).
+/// Uniform direction on the unit sphere. pdf = 1 / (4 pi). Not used by the renderer (sphere lights sample their
+/// visible cone in render/light.cpp): the random directions of the accelerator tests and benchmarks.
 vec3 sample_uniform_sphere(vec2 u);
 inline float uniform_sphere_pdf() { return 1.0f / (4.0f * kPi); }
-
-/// Uniform direction in the cone around +z with half-angle acos(cos_theta_max). pdf = 1 / (2 pi (1 - cos_theta_max)).
-/// Stable for tiny cones (uses 1 - cos computed from sin^2 where that is more accurate).
-vec3 sample_uniform_cone(vec2 u, float cos_theta_max);
-float uniform_cone_pdf(float cos_theta_max);
 
 /// Uniform point on a triangle as barycentrics (b0, b1, b2), b0 + b1 + b2 = 1 (the warp of Heitz 2019 used by
 /// pbrt-v4). The point is b0 p0 + b1 p1 + b2 p2; pdf = 1 / area.
