@@ -4,7 +4,7 @@ BUILD_TYPE ?= Release
 JOBS ?= $(shell nproc 2>/dev/null || echo 2)
 CMAKE_FLAGS ?=
 
-.PHONY: run test build deps configure clean bench-error bench-throughput sanitize fuzz bench-raycast bench-e2e bench-micro bench-mpi
+.PHONY: run test build deps configure clean bench-error bench-cornell36 bench-throughput sanitize fuzz bench-raycast bench-e2e bench-micro bench-mpi
 
 deps:
 	@bash scripts/install-deps.sh
@@ -27,6 +27,12 @@ bench-error: build
 	./$(BUILD_DIR)/bench/bench_time_vs_error --size 128 --max-spp 64 --ref-spp 1024 --csv $(BUILD_DIR)/time_vs_error.csv
 	/usr/bin/python3 bench/plot_time_vs_error.py $(BUILD_DIR)/time_vs_error.csv docs/img
 	/usr/bin/python3 bench/plot_convergence.py $(BUILD_DIR)/time_vs_error docs/img
+
+# Issue 11's efficiency target: bench/data/cornell36.obj with its light emitting, 256x256, depth 8, 2 threads,
+# against a 4096-spp reference rendered as two halves (cached in $(BUILD_DIR)/refcache), reference noise subtracted.
+bench-cornell36: build
+	./$(BUILD_DIR)/bench/bench_time_vs_error --scenes cornell36 --size 256 --max-spp 256 --ref-spp 4096 --max-depth 8 --threads 2 --cache $(BUILD_DIR)/refcache --csv $(BUILD_DIR)/cornell36.csv
+	/usr/bin/python3 bench/plot_time_vs_error.py $(BUILD_DIR)/cornell36.csv docs/img
 
 bench-throughput: build
 	./$(BUILD_DIR)/bench/bench_render_throughput --csv $(BUILD_DIR)/render_throughput.csv

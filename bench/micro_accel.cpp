@@ -179,14 +179,10 @@ void warp_benchmark(benchmark::State& state, Warp warp) {
 void BM_sample_cosine_hemisphere(benchmark::State& s) { warp_benchmark(s, sample_cosine_hemisphere); }
 void BM_sample_uniform_disk_concentric(benchmark::State& s) { warp_benchmark(s, sample_uniform_disk_concentric); }
 void BM_sample_uniform_sphere(benchmark::State& s) { warp_benchmark(s, sample_uniform_sphere); }
-void BM_sample_uniform_cone(benchmark::State& s) {
-  warp_benchmark(s, [](vec2 u) { return sample_uniform_cone(u, 0.9f); });
-}
 void BM_sample_uniform_triangle(benchmark::State& s) { warp_benchmark(s, sample_uniform_triangle); }
 BENCHMARK(BM_sample_cosine_hemisphere);
 BENCHMARK(BM_sample_uniform_disk_concentric);
 BENCHMARK(BM_sample_uniform_sphere);
-BENCHMARK(BM_sample_uniform_cone);
 BENCHMARK(BM_sample_uniform_triangle);
 
 // Spherical rectangle (Urena et al. 2013): the per-shading-point setup plus one sample, as light sampling does it.

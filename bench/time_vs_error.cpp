@@ -1,8 +1,14 @@
 // Error against wall time for each sampling strategy and sampler (issue: run time against error).
-// For every scene: a reference (analytic where known, else a high-spp MIS render cached outside the repo), then
-// progressive renders recording (spp, seconds, rmse, rel_mse) after each power-of-two spp count.
+// For every scene: a reference (analytic where known, else a high-spp render cached outside the repo, rendered as
+// two halves A and B with different seeds), then progressive renders recording (spp, seconds, rmse, rel_mse) after
+// each power-of-two spp count. With a rendered reference, rel_mse is corrected for the reference's own noise: the
+// measured mean of (x - r)^2 / (r^2 + 0.01) is E[(x - truth)^2] + Var(r) (per pixel), and (A - B)^2 / 4 estimates
+// Var(r) without bias, so its weighted mean is subtracted (the raw value is the rel_mse_raw column).
+// Efficiency = 1 / (rel_mse x seconds). Strategy "defaults" is what ptview runs with no strategy flags.
 //   build/bench/bench_time_vs_error [--size 128] [--max-spp 256] [--ref-spp 4096] [--cache DIR] [--csv FILE]
-//                                   [--scenes a,b,...]
+//                                   [--scenes a,b,...] [--max-depth 64] [--threads 0]
+// Scene cornell36 (only when named in --scenes): bench/data/cornell36.obj with its ceiling light emitting
+// (17, 12, 4), no background (the issue-11 set-up: 256x256, --max-depth 8, --threads 2, see `make bench-cornell36`).
 // Then: python3 bench/plot_time_vs_error.py FILE.csv docs/img
 #include <chrono>
 #include <cmath>
@@ -35,6 +41,7 @@ struct Strategy {
   LightSampling light_sampling;
 };
 const Strategy kStrategies[] = {
+    {"defaults", IntegratorKind::automatic, LightSampling::solid_angle},
     {"assignment(nee+area)", IntegratorKind::nee, LightSampling::area},
     {"nee+solid-angle", IntegratorKind::nee, LightSampling::solid_angle},
     {"mis+solid-angle", IntegratorKind::mis, LightSampling::solid_angle},
@@ -267,8 +274,29 @@ void compare_adaptive(const std::string& name, const RenderScene& rs, const Imag
 
 }  // namespace
 
+/// The issue-11 scene: the 36-triangle Cornell box OBJ with its two-triangle ceiling light emitting.
+Result<Scene> make_cornell36_scene() {
+  Result<Scene> s = load_scene(std::string(PTVIEW_SOURCE_DIR) + "/bench/data/cornell36.json");
+  if (!s) return s;
+  s->background.reset();
+  for (Material& m : s->materials)
+    if (m.name == "light") m.emission = vec3(17, 12, 4);
+  s->source = "cornell36";
+  return s;
+}
+
+/// Mean over pixels and channels of (a - b)^2 / 4 / (r^2 + 0.01): the reference noise in rel_mse units.
+double reference_noise(const Image& a, const Image& b, const Image& r) {
+  double sum = 0.0;
+  for (size_t i = 0; i < r.rgb.size(); ++i) {
+    double d = double(a.rgb[i]) - double(b.rgb[i]), rr = double(r.rgb[i]);
+    sum += d * d / 4.0 / (rr * rr + 0.01);
+  }
+  return r.rgb.empty() ? 0.0 : sum / double(r.rgb.size());
+}
+
 int main(int argc, char** argv) {
-  int size = 128, max_spp = 256, ref_spp = 4096;
+  int size = 128, max_spp = 256, ref_spp = 4096, max_depth = 64, threads = 0;
   std::string cache = std::string(std::getenv("HOME") ? std::getenv("HOME") : "/tmp") + "/.cache/ptview";
   std::string csv_path = "time_vs_error.csv";
   std::string only;
@@ -285,6 +313,8 @@ int main(int argc, char** argv) {
     else if (!std::strcmp(argv[i], "--convergence")) convergence = argv[i + 1];
     else if (!std::strcmp(argv[i], "--conv-size")) conv_size = std::atoi(argv[i + 1]);
     else if (!std::strcmp(argv[i], "--conv-ref-spp")) conv_ref_spp = std::atoi(argv[i + 1]);
+    else if (!std::strcmp(argv[i], "--max-depth")) max_depth = std::atoi(argv[i + 1]);
+    else if (!std::strcmp(argv[i], "--threads")) threads = std::atoi(argv[i + 1]);
   }
   std::vector<std::pair<std::string, Scene>> scenes;
   for (const char* name : {"cornell", "cornell-glass", "cornell-mirror", "cornell-large-mesh"}) {
@@ -295,39 +325,61 @@ int main(int argc, char** argv) {
   scenes.emplace_back("furnace", make_furnace_scene());
   PlaneScene plane = make_plane_scene();
   scenes.emplace_back("rect-light-over-plane", plane.scene);
+  if (only.find(",cornell36,") != std::string::npos) {
+    Result<Scene> c36 = make_cornell36_scene();
+    if (!c36) {
+      std::fprintf(stderr, "%s\n", c36.error().c_str());
+      return 2;
+    }
+    scenes.emplace_back("cornell36", std::move(*c36));
+  }
   fs::create_directories(cache);
-  Renderer renderer(0);
+  Renderer renderer(threads);
   std::ofstream csv(csv_path);
-  csv << "scene,strategy,sampler,spp,seconds,rmse,rel_mse\n";
-  std::printf("%-20s %-22s %-12s %6s %9s %11s %11s\n", "scene", "strategy", "sampler", "spp", "seconds", "rmse",
-              "rel_mse");
+  csv << "scene,strategy,sampler,spp,seconds,rmse,rel_mse,rel_mse_raw,efficiency\n";
+  std::printf("%-20s %-22s %-12s %6s %9s %11s %11s %11s\n", "scene", "strategy", "sampler", "spp", "seconds", "rmse",
+              "rel_mse", "efficiency");
   for (auto& [name, scene] : scenes) {
     if (convergence == "only") break;
     if (!only.empty() && only.find("," + name + ",") == std::string::npos) continue;
     RenderScene rs = make_render_scene(scene);
     RenderParams base;
     base.width = base.height = size;
-    base.max_depth = 64;
+    base.max_depth = max_depth;
+    base.threads = threads;
     Image reference;
+    double ref_noise = 0.0;
     if (name == "furnace") {
       reference = Image(size, size);
       std::fill(reference.rgb.begin(), reference.rgb.end(), 1.0f);
     } else if (name == "rect-light-over-plane") {
       reference = exact_plane_image(plane, size);
     } else {
-      std::string ref_path = cache + "/ref-" + name + "-" + std::to_string(size) + "-" + std::to_string(ref_spp) + ".pfm";
-      Result<Image> cached = load_image(ref_path);
-      if (cached) {
-        reference = std::move(*cached);
-      } else {
+      std::string stem = cache + "/ref-" + name + "-" + std::to_string(size) + "-d" + std::to_string(max_depth) + "-" +
+                         std::to_string(ref_spp);
+      Image halves[2];
+      for (int h = 0; h < 2; ++h) {
+        std::string path = stem + (h == 0 ? "-A.pfm" : "-B.pfm");
+        Result<Image> cached = load_image(path);
+        if (cached) {
+          halves[h] = std::move(*cached);
+          continue;
+        }
         auto t0 = std::chrono::steady_clock::now();
         RenderParams p = base;
-        p.seed = 987654321;
-        reference = render(rs, p, ref_spp, renderer);
+        p.seed = 987654321 + uint64_t(h);
+        halves[h] = render(rs, p, std::max(1, ref_spp / 2), renderer);
         double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-        std::printf("# reference %s: %d spp in %.1f s -> %s\n", name.c_str(), ref_spp, s, ref_path.c_str());
-        if (auto err = save_image(ref_path, reference)) std::fprintf(stderr, "%s\n", err->message.c_str());
+        std::printf("# reference %s half %c: %d spp in %.1f s -> %s\n", name.c_str(), 'A' + h, ref_spp / 2, s,
+                    path.c_str());
+        if (auto err = save_image(path, halves[h])) std::fprintf(stderr, "%s\n", err->message.c_str());
       }
+      reference = halves[0];
+      for (size_t i = 0; i < reference.rgb.size(); ++i)
+        reference.rgb[i] = 0.5f * (halves[0].rgb[i] + halves[1].rgb[i]);
+      ref_noise = reference_noise(halves[0], halves[1], reference);
+      std::printf("# reference %s: %d spp, its own noise in rel_mse units %.3g (subtracted)\n", name.c_str(), ref_spp,
+                  ref_noise);
     }
     for (const Strategy& st : kStrategies)
       for (auto [sampler_name, sampler] : kSamplers) {
@@ -347,10 +399,12 @@ int main(int argc, char** argv) {
           if (spp != next_report) continue;
           next_report *= 2;
           ImageError e = compare_images(film.resolve(), reference);
+          double rel = e.rel_mse - ref_noise;
+          double efficiency = rel > 0.0 && seconds > 0.0 ? 1.0 / (rel * seconds) : 0.0;
           csv << name << "," << st.name << "," << sampler_name << "," << spp << "," << seconds << "," << e.rmse << ","
-              << e.rel_mse << "\n";
-          std::printf("%-20s %-22s %-12s %6d %9.3f %11.4g %11.4g\n", name.c_str(), st.name, sampler_name, spp, seconds,
-                      e.rmse, e.rel_mse);
+              << rel << "," << e.rel_mse << "," << efficiency << "\n";
+          std::printf("%-20s %-22s %-12s %6d %9.3f %11.4g %11.4g %11.4g\n", name.c_str(), st.name, sampler_name, spp,
+                      seconds, e.rmse, rel, efficiency);
         }
       }
   }

@@ -48,7 +48,7 @@ ParseOutcome parse_command_line(int argc, const char* const* argv) {
   app.set_version_flag("--version", "ptview 0.1");
   // A repeated option takes its last value, so scripts can append overrides.
   app.option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
-  std::string size = "512x512", integrator = "mis", light_sampling = "solid-angle";
+  std::string size = "512x512", integrator = "auto", light_sampling = "solid-angle";
   int frames = 0;
   double time_limit = 0;
   std::string seed = "0";

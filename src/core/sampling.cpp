@@ -33,22 +33,6 @@ vec3 sample_uniform_sphere(vec2 u) {
   return {r * std::cos(phi), r * std::sin(phi), z};
 }
 
-vec3 sample_uniform_cone(vec2 u, float cos_theta_max) {
-  // 1 - cos(theta) is uniform in [0, 1 - cos_theta_max]; computing it directly keeps tiny cones accurate.
-  float one_minus_cos_max = 1.0f - cos_theta_max;
-  float one_minus_cos = u.x * one_minus_cos_max;
-  float cos_theta = 1.0f - one_minus_cos;
-  // sin^2 = (1 - cos)(1 + cos), exact for small angles where 1 - cos^2 cancels.
-  float sin_theta = safe_sqrt(one_minus_cos * (2.0f - one_minus_cos));
-  float phi = kTwoPi * u.y;
-  return {sin_theta * std::cos(phi), sin_theta * std::sin(phi), cos_theta};
-}
-
-float uniform_cone_pdf(float cos_theta_max) {
-  float one_minus = 1.0f - cos_theta_max;
-  return one_minus > 0.0f ? 1.0f / (kTwoPi * one_minus) : kInfinity;
-}
-
 vec3 sample_uniform_triangle(vec2 u) {
   // Heitz 2019, "A Low-Distortion Map Between Triangle and Square".
   float b0, b1;
@@ -62,66 +46,117 @@ vec3 sample_uniform_triangle(vec2 u) {
   return {b0, b1, 1.0f - b0 - b1};
 }
 
+namespace {
+
+/// atan2(p, q) for q > 0 as quarter * pi/2 + rest with |rest| <= pi/4: the quarters of a sum of such angles add
+/// exactly (as integers), so a small solid angle that is a difference of angles near pi/2 keeps the precision of
+/// its small parts.
+struct SplitAngle {
+  int quarter;
+  float rest;
+};
+SplitAngle split_atan2(float p, float q) {
+  if (std::abs(p) <= q) return {0, std::atan(p / q)};
+  return {p > 0.0f ? 1 : -1, -std::atan(q / p)};
+}
+
+/// 1 - y / sqrt(d2 + y^2) and 1 + y / sqrt(d2 + y^2), each without cancellation (the one that would cancel is
+/// rewritten as d2 / (r (r +- y))): what keeps the y inversion exact where the chord is seen nearly end-on.
+void one_minus_plus_sine(float y, float d2, float& minus, float& plus) {
+  float r = std::sqrt(d2 + y * y);
+  if (y > 0.0f) {
+    minus = d2 / (r * (r + y));
+    plus = 1.0f + y / r;
+  } else {
+    minus = 1.0f - y / r;
+    plus = d2 / (r * (r - y));
+  }
+}
+
+}  // namespace
+
 bool make_spherical_rectangle(vec3 ref, vec3 corner, vec3 ex, vec3 ey, SphericalRectangle& sr) {
   sr = SphericalRectangle{};
-  // Double precision: the solid angle is a small difference of angles near pi, which float loses for small or
-  // grazing rectangles.
-  dvec3 dex(ex), dey(ey);
-  double ex_len = glm::length(dex), ey_len = glm::length(dey);
-  if (!(ex_len > 0.0) || !(ey_len > 0.0)) return false;
-  dvec3 x = dex / ex_len, y = dey / ey_len, z = glm::cross(x, y);
-  dvec3 d = dvec3(corner) - dvec3(ref);
-  double z0 = glm::dot(d, z);
-  if (z0 > 0.0) {  // make z point away from the rectangle plane
+  float ex_len = glm::length(ex), ey_len = glm::length(ey);
+  if (!(ex_len > 0.0f) || !(ey_len > 0.0f) || !std::isfinite(ex_len * ey_len)) return false;
+  vec3 x = ex / ex_len, y = ey / ey_len, z = glm::cross(x, y);
+  vec3 d = corner - ref;
+  float z0 = glm::dot(d, z);
+  if (z0 > 0.0f) {  // make z point away from the rectangle plane
     z = -z;
     z0 = -z0;
   }
-  if (!(z0 < 0.0)) return false;  // ref in the plane
-  double x0 = glm::dot(d, x), y0 = glm::dot(d, y), x1 = x0 + ex_len, y1 = y0 + ey_len;
-  // Corner vectors and the normals of the four planes through ref and each edge.
-  dvec3 v00(x0, y0, z0), v01(x0, y1, z0), v10(x1, y0, z0), v11(x1, y1, z0);
-  dvec3 n0 = glm::normalize(glm::cross(v00, v10));
-  dvec3 n1 = glm::normalize(glm::cross(v10, v11));
-  dvec3 n2 = glm::normalize(glm::cross(v11, v01));
-  dvec3 n3 = glm::normalize(glm::cross(v01, v00));
-  auto angle = [](double c) { return std::acos(std::clamp(c, -1.0, 1.0)); };
-  double g0 = angle(-glm::dot(n0, n1)), g1 = angle(-glm::dot(n1, n2));
-  double g2 = angle(-glm::dot(n2, n3)), g3 = angle(-glm::dot(n3, n0));
-  double k = 2.0 * 3.14159265358979323846 - g2 - g3;
-  double solid_angle = g0 + g1 - k;
-  if (!(solid_angle > 0.0) || !std::isfinite(solid_angle)) return false;
+  if (!(z0 < 0.0f)) return false;  // ref in the plane
+  float x0 = glm::dot(d, x), y0 = glm::dot(d, y), x1 = x0 + ex_len, y1 = y0 + ey_len;
+  // The solid angle is F(x1,y1) - F(x1,y0) - F(x0,y1) + F(x0,y0) with F(x,y) = atan(x y / (h R(x,y))), h = -z0,
+  // R the distance to the corner (the closed form behind Urena et al.'s angles gamma_i = pi/2 + a_i, written with
+  // atan2 of well-conditioned products instead of acos of dot products of normals, so float suffices).
+  const float h = -z0, h2 = h * h;
+  auto corner_angle = [&](float cx, float cy) { return split_atan2(cx * cy, h * std::sqrt(cx * cx + cy * cy + h2)); };
+  SplitAngle a0 = corner_angle(x1, -y0), a1 = corner_angle(x1, y1), a2 = corner_angle(-x0, y1), a3 = corner_angle(x0, y0);
+  const float half_pi = 0.5f * kPi;
+  float solid_angle = float(a0.quarter + a1.quarter + a2.quarter + a3.quarter) * half_pi +
+                      ((a0.rest + a1.rest) + (a2.rest + a3.rest));
+  if (!(solid_angle > 0.0f) || !std::isfinite(solid_angle)) return false;
   sr.o = ref;
-  sr.x = vec3(x);
-  sr.y = vec3(y);
-  sr.z = vec3(z);
-  sr.z0 = float(z0);
-  sr.x0 = float(x0);
-  sr.y0 = float(y0);
-  sr.x1 = float(x1);
-  sr.y1 = float(y1);
-  sr.b0 = float(n0.z);
-  sr.b1 = float(n2.z);
-  sr.k = float(k);
-  sr.solid_angle = float(solid_angle);
-  return sr.solid_angle > 0.0f;
+  sr.x = x;
+  sr.y = y;
+  sr.z = z;
+  sr.z0 = z0;
+  sr.x0 = x0;
+  sr.y0 = y0;
+  sr.x1 = x1;
+  sr.y1 = y1;
+  float r0 = std::sqrt(y0 * y0 + h2);
+  sr.b0 = -y0 / r0;
+  sr.b0p = h / r0;
+  sr.b1 = y1 / std::sqrt(y1 * y1 + h2);
+  one_minus_plus_sine(-y0, h2, sr.one_minus_b0, sr.one_plus_b0);
+  one_minus_plus_sine(y1, h2, sr.one_minus_b1, sr.one_plus_b1);
+  sr.k_quarters = a2.quarter + a3.quarter;
+  sr.k = a2.rest + a3.rest;
+  sr.solid_angle = solid_angle;
+  return true;
 }
 
 vec3 sample_spherical_rectangle(const SphericalRectangle& sr, vec2 u) {
   // Urena et al. 2013, section 4: invert the solid angle along x, then sample y uniformly in the projected chord.
-  float au = u.x * sr.solid_angle + sr.k;
-  float fu = (std::cos(au) * sr.b0 - sr.b1) / std::sin(au);
-  float cu = std::copysign(1.0f, fu) / std::sqrt(fu * fu + sr.b0 * sr.b0);
-  cu = std::clamp(cu, -kOneMinusEpsilon, kOneMinusEpsilon);
-  float xu = -(cu * sr.z0) / safe_sqrt(1.0f - cu * cu);
+  // Their angle au = u S + k is written as pi + t - q pi/2 with t = u S - rest small-ish and q an integer, so cos
+  // and sin of au come exactly from those of t, and their numerator cos(au) b0 - b1 (a difference of numbers near
+  // 1 for far or grazing views) from the exact 1 -+ b terms. Their x = -cu z0 / sqrt(1 - cu^2), with
+  // cu = sign(fu) / sqrt(fu^2 + b0^2), is rewritten as h sign(fu) / sqrt((|fu| - b0')(|fu| + b0')),
+  // b0' = sqrt(1 - b0^2), which does not lose x to the rounding of cu near 1.
+  const float h = -sr.z0;
+  const float t = u.x * sr.solid_angle - sr.k;
+  const float st = std::sin(t), ct = std::cos(t);
+  float num, den;  // cos(delta) b0 + b1 and sin(delta), delta = au - pi = t - q pi / 2
+  if (sr.k_quarters == 0 || sr.k_quarters == 2 || sr.k_quarters == -2) {
+    const float sign = sr.k_quarters == 0 ? 1.0f : -1.0f;  // cos(delta) = sign cos t, sin(delta) = sign sin t
+    const float sin_half = std::sin(0.5f * t);
+    const float sum = sign > 0.0f ? sr.one_plus_b1 - sr.one_minus_b0 : sr.one_minus_b0 - sr.one_minus_b1;
+    num = sum - sign * sr.b0 * (2.0f * sin_half * sin_half);
+    den = sign * st;
+  } else {
+    const float sign = float(sr.k_quarters);  // q = 1: cos(delta) = sin t, sin(delta) = -cos t; q = -1: negated
+    num = sign * st * sr.b0 + sr.b1;
+    den = -sign * ct;
+  }
+  float fu = num / den;
+  float af = std::abs(fu);
+  float q = (af - sr.b0p) * (af + sr.b0p);
+  float xu = q > 0.0f ? std::copysign(h / std::sqrt(q), fu) : std::copysign(kInfinity, fu);
+  if (std::isnan(xu)) xu = 0.5f * (sr.x0 + sr.x1);  // only where delta and fu vanish together
   xu = std::clamp(xu, sr.x0, sr.x1);
-  float d = std::sqrt(xu * xu + sr.z0 * sr.z0);
-  float h0 = sr.y0 / std::sqrt(d * d + sr.y0 * sr.y0);
-  float h1 = sr.y1 / std::sqrt(d * d + sr.y1 * sr.y1);
-  float hv = h0 + u.y * (h1 - h0);
-  float hv2 = hv * hv;
-  float yv = hv2 < 1.0f - 1e-6f ? (hv * d) / std::sqrt(1.0f - hv2) : sr.y1;
+  float d2 = xu * xu + h * h;
+  float m0, p0, m1, p1;
+  one_minus_plus_sine(sr.y0, d2, m0, p0);
+  one_minus_plus_sine(sr.y1, d2, m1, p1);
+  // hv = h0 + u (h1 - h0) with h = sin of the elevation; 1 - hv and 1 + hv interpolated from their exact ends.
+  float one_minus = m0 + u.y * (m1 - m0), one_plus = p0 + u.y * (p1 - p0);
+  float hv = 0.5f * (one_plus - one_minus);
+  float denom = one_minus * one_plus;
+  float yv = denom > 0.0f ? hv * std::sqrt(d2 / denom) : (hv > 0.0f ? sr.y1 : sr.y0);
   yv = std::clamp(yv, sr.y0, sr.y1);
-  if (!std::isfinite(xu)) xu = 0.5f * (sr.x0 + sr.x1);
   return sr.o + xu * sr.x + yv * sr.y + sr.z0 * sr.z;
 }
 

@@ -1,15 +1,25 @@
 #pragma once
-/// Owen-scrambled, shuffled Sobol points (Burley 2020, "Practical Hash-based Owen Scrambling", JCGT 9(4)).
-/// Every 2D draw of a path uses the first two Sobol dimensions, with its own hash-based nested uniform scramble
-/// of the index (a progressive shuffle: each power-of-two prefix stays a stratified set) and of the output bits.
-/// Any prefix of 2^k samples of a pixel is well stratified, so progressive rendering keeps the benefit.
+/// Owen-scrambled, shuffled Sobol points in 4D patterns (Burley 2020, "Practical Hash-based Owen Scrambling",
+/// JCGT 9(4); the reversed-bit, table-driven form follows the idea of Cycles' sobol_burley.h, our own code).
+/// A pattern is the first four Sobol dimensions over a pixel's sample index: the index is shuffled by a nested
+/// uniform (Owen) scramble of its own seed, then each of the four outputs gets its own Owen scramble. Any prefix of
+/// 2^k samples of a pattern is well stratified (dimensions 0 and 1 form a (0,k,2)-net), so progressive rendering
+/// keeps the benefit.
+///
+/// Why it is fast: the Laine-Karras hash is an Owen scramble in the reversed-bit domain, and the generator
+/// matrices are applied to the (shuffled) index a byte at a time from tables stored bit-reversed, so a dimension
+/// costs three table loads, one hash and one bit reversal; no loop over the index bits, no data-dependent branch.
+/// Only bits 0-23 of the shuffled index are read: for sample indices below 2^24 its bits 24-31 depend on the
+/// shuffle seed alone (the Owen scramble flips a bit by the bits above it, all zero), so they would add one
+/// constant digital shift per pattern, which the Owen scramble of the output absorbs in distribution.
+#include <array>
 #include <cstdint>
 
 #include "core/math.h"
 
 namespace pt {
 
-inline uint32_t reverse_bits(uint32_t x) {
+inline constexpr uint32_t reverse_bits(uint32_t x) {
   x = (x << 16) | (x >> 16);
   x = ((x & 0x00ff00ffu) << 8) | ((x & 0xff00ff00u) >> 8);
   x = ((x & 0x0f0f0f0fu) << 4) | ((x & 0xf0f0f0f0u) >> 4);
@@ -43,30 +53,106 @@ inline uint32_t hash_u32(uint32_t x) {
   return x;
 }
 
-/// Dimensions 0 and 1 of the Sobol sequence as 32-bit fixed point.
-inline void sobol_2d(uint32_t index, uint32_t& x, uint32_t& y) {
-  x = reverse_bits(index);
-  y = 0;
-  for (uint32_t v = 1u << 31; index != 0; index >>= 1, v ^= v >> 1)
-    if (index & 1u) y ^= v;
+namespace sobol_detail {
+
+/// Direction numbers of one Sobol dimension (Joe and Kuo 2008 parameters: degree s, coefficients a, initial m),
+/// as 32-bit fixed point: v[j] is the contribution of index bit j. Dimension 0 (s = 0) is the identity.
+constexpr std::array<uint32_t, 32> direction_numbers(int s, uint32_t a, std::array<uint32_t, 3> m_init) {
+  std::array<uint32_t, 32> v{};
+  if (s == 0) {
+    for (int j = 0; j < 32; ++j) v[size_t(j)] = 1u << (31 - j);
+    return v;
+  }
+  std::array<uint32_t, 33> m{};  // 1-based
+  for (int i = 1; i <= 32; ++i) {
+    if (i <= s) {
+      m[size_t(i)] = m_init[size_t(i - 1)];
+      continue;
+    }
+    uint32_t x = m[size_t(i - s)] ^ (m[size_t(i - s)] << s);
+    for (int k = 1; k < s; ++k)
+      if ((a >> (s - 1 - k)) & 1u) x ^= m[size_t(i - k)] << k;
+    m[size_t(i)] = x;
+  }
+  for (int j = 0; j < 32; ++j) v[size_t(j)] = m[size_t(j + 1)] << (31 - j);
+  return v;
+}
+
+/// The first four dimensions: van der Corput, then x+1, x^2+x+1, x^3+x+1 (Joe-Kuo new-joe-kuo-6.21201, d = 2..4).
+inline constexpr std::array<std::array<uint32_t, 32>, 4> kDirections = {
+    direction_numbers(0, 0, {}), direction_numbers(1, 0, {1, 0, 0}), direction_numbers(2, 1, {1, 3, 0}),
+    direction_numbers(3, 1, {1, 3, 1})};
+
+/// table[d][slot][k]: the bit-reversed Sobol value of dimension d contributed by byte k of the bit-reversed
+/// shuffled index, slot 0 = its top byte (index bits 0-7), 1 = bits 8-15, 2 = bits 16-23.
+struct Tables {
+  uint32_t t[4][3][256];
+};
+constexpr Tables make_tables() {
+  Tables tb{};
+  for (int d = 0; d < 4; ++d)
+    for (int slot = 0; slot < 3; ++slot)
+      for (uint32_t k = 0; k < 256; ++k) {
+        uint32_t acc = 0;
+        for (int q = 0; q < 8; ++q) {
+          if (!((k >> q) & 1u)) continue;
+          int p = 8 * (3 - slot) + q;  // bit of the reversed index
+          acc ^= reverse_bits(kDirections[size_t(d)][size_t(31 - p)]);
+        }
+        tb.t[d][slot][k] = acc;
+      }
+  return tb;
+}
+inline constexpr Tables kTables = make_tables();
+
+}  // namespace sobol_detail
+
+/// Dimension `dim` (0-3) of the unscrambled Sobol point `index`, 32-bit fixed point, by the plain definition (the
+/// XOR of the direction numbers of the index's set bits). The reference the fast path is tested against.
+inline uint32_t sobol_reference(uint32_t index, int dim) {
+  uint32_t x = 0;
+  for (int j = 0; index != 0; ++j, index >>= 1)
+    if (index & 1u) x ^= sobol_detail::kDirections[size_t(dim)][size_t(j)];
+  return x;
+}
+
+/// Dimension `dim` of the Sobol point whose index, bit-reversed, is `rev_index`, in the reversed-bit domain, from
+/// the tables; exact for indices below 2^24 (index bits 24-31 are ignored, see the header comment).
+inline uint32_t sobol_reversed(uint32_t rev_index, int dim) {
+  const auto& t = sobol_detail::kTables.t[dim];
+  return t[0][rev_index >> 24] ^ t[1][(rev_index >> 16) & 255u] ^ t[2][(rev_index >> 8) & 255u];
 }
 
 inline float fixed_to_unit_float(uint32_t x) { return std::min(float(x >> 8) * 0x1p-24f, kOneMinusEpsilon); }
 
-/// The `index`-th point of the shuffled, scrambled 2D Sobol sequence identified by `seed`, in [0,1)^2.
-inline vec2 sobol_owen_2d(uint32_t index, uint32_t seed) {
-  uint32_t shuffled = nested_uniform_scramble(index, seed);
-  uint32_t x, y;
-  sobol_2d(shuffled, x, y);
-  uint32_t s = hash_u32(seed ^ 0x9e3779b9u);
-  return {fixed_to_unit_float(nested_uniform_scramble(x, s)),
-          fixed_to_unit_float(nested_uniform_scramble(y, hash_u32(s + 1u)))};
+/// The first `n` (1-4) dimensions of the `index`-th point of the shuffled, scrambled 4D Sobol pattern `seed`, in
+/// [0,1). `rev_index` is reverse_bits(index) (callers drawing many patterns for one sample compute it once).
+template <int n>
+inline void sobol_owen_pattern(uint32_t rev_index, uint32_t seed, float* out) {
+  static_assert(n >= 1 && n <= 4);
+  // The shuffle: an Owen scramble of the index, kept in the reversed domain where the tables read it.
+  const uint32_t r = laine_karras_permutation(rev_index, seed);
+  // Dimension 0 is the radical inverse: its reversed-domain value is the shuffled index itself.
+  out[0] = fixed_to_unit_float(reverse_bits(laine_karras_permutation(reverse_bits(r), hash_u32(seed + 0x9e3779b9u))));
+  for (int k = 1; k < n; ++k)
+    out[k] = fixed_to_unit_float(
+        reverse_bits(laine_karras_permutation(sobol_reversed(r, k), hash_u32(seed + 0x9e3779b9u * uint32_t(k + 1)))));
 }
 
-/// One dimension: the shuffled, scrambled van der Corput sequence.
+inline vec4 sobol_owen_4d(uint32_t index, uint32_t seed) {
+  float v[4];
+  sobol_owen_pattern<4>(reverse_bits(index), seed, v);
+  return {v[0], v[1], v[2], v[3]};
+}
+inline vec2 sobol_owen_2d(uint32_t index, uint32_t seed) {
+  float v[2];
+  sobol_owen_pattern<2>(reverse_bits(index), seed, v);
+  return {v[0], v[1]};
+}
 inline float sobol_owen_1d(uint32_t index, uint32_t seed) {
-  uint32_t shuffled = nested_uniform_scramble(index, seed);
-  return fixed_to_unit_float(nested_uniform_scramble(reverse_bits(shuffled), hash_u32(seed ^ 0x85ebca6bu)));
+  float v;
+  sobol_owen_pattern<1>(reverse_bits(index), seed, &v);
+  return v;
 }
 
 }  // namespace pt

@@ -14,7 +14,9 @@ struct PrevVertex {
 };
 
 /// The random numbers one path vertex consumes, drawn together so every vertex uses the same sampler dimensions
-/// whatever branch it takes (this keeps low-discrepancy dimensions aligned across a pixel's samples).
+/// whatever branch it takes (this keeps low-discrepancy dimensions aligned across a pixel's samples). Two 4D
+/// draws: what light sampling needs, and what BSDF sampling needs, each with its 2D point in the two best
+/// stratified dimensions (Cycles groups them the same way).
 struct VertexSamples {
   float light_choice;
   vec2 light_point;
@@ -23,12 +25,15 @@ struct VertexSamples {
   float roulette;
 
   static VertexSamples draw(PixelSampler& s) {
+    float a[4], b[3];
+    s.next<4>(a);
+    s.next<3>(b);
     VertexSamples v;
-    v.light_choice = s.next1d();
-    v.light_point = s.next2d();
-    v.lobe = s.next1d();
-    v.direction = s.next2d();
-    v.roulette = s.next1d();
+    v.light_point = {a[0], a[1]};
+    v.light_choice = a[2];
+    v.roulette = a[3];
+    v.direction = {b[0], b[1]};
+    v.lobe = b[2];
     return v;
   }
 };
@@ -141,8 +146,18 @@ vec3 trace_path_impl(const RenderScene& scene, const RenderParams& params, Ray r
   return radiance;
 }
 
-vec3 trace_path(const RenderScene& scene, const RenderParams& params, Ray ray, PixelSampler& sampler,
+IntegratorKind resolve_integrator(const RenderScene& scene, IntegratorKind kind, LightSampling light_sampling) {
+  if (kind != IntegratorKind::automatic) return kind;
+  if (light_sampling != LightSampling::solid_angle) return IntegratorKind::mis;
+  for (const Light& l : scene.lights.lights)
+    if (!(l.kind == LightKind::sphere || (l.kind == LightKind::rect && l.rectangular))) return IntegratorKind::mis;
+  return IntegratorKind::nee;
+}
+
+vec3 trace_path(const RenderScene& scene, const RenderParams& params_in, Ray ray, PixelSampler& sampler,
                 RenderCounters& c) {
+  RenderParams params = params_in;
+  params.integrator = resolve_integrator(scene, params.integrator, params.light_sampling);
   const bool delta = scene.features.has_glass || scene.features.has_specular || params.force_generic_kernel;
   const bool background = scene.features.has_background || params.force_generic_kernel;
   if (delta) {

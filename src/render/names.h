@@ -8,7 +8,8 @@
 namespace pt {
 
 inline constexpr EnumName<IntegratorKind> kIntegratorNames[] = {
-    {IntegratorKind::mis, "mis"}, {IntegratorKind::nee, "nee"}, {IntegratorKind::bsdf, "bsdf"}};
+    {IntegratorKind::automatic, "auto"}, {IntegratorKind::mis, "mis"}, {IntegratorKind::nee, "nee"},
+    {IntegratorKind::bsdf, "bsdf"}};
 inline constexpr EnumName<LightSampling> kLightSamplingNames[] = {
     {LightSampling::solid_angle, "solid-angle"}, {LightSampling::area, "area"}};
 inline constexpr EnumName<SamplerKind> kSamplerNames[] = {

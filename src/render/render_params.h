@@ -7,14 +7,15 @@
 
 namespace pt {
 
-enum class IntegratorKind : int { mis = 0, nee = 1, bsdf = 2 };
+/// automatic (the default) picks nee or mis per scene, see resolve_integrator (render/integrator.h).
+enum class IntegratorKind : int { mis = 0, nee = 1, bsdf = 2, automatic = 3 };
 
 struct RenderParams {
   int width = 512;
   int height = 512;
   int spp_per_frame = 1;
   int max_depth = 64;  ///< pbrt's convention: 0 = emission seen directly, 1 = plus direct lighting, ...
-  IntegratorKind integrator = IntegratorKind::mis;
+  IntegratorKind integrator = IntegratorKind::automatic;
   LightSampling light_sampling = LightSampling::solid_angle;
   SamplerKind sampler = SamplerKind::sobol;
   uint64_t seed = 0;

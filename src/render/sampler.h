@@ -8,18 +8,21 @@ namespace pt {
 
 enum class SamplerKind : int { independent = 0, sobol = 1 };
 
-/// independent: PCG32 per pixel sample. sobol: each successive 1D/2D draw ("dimension") of a pixel's samples is
-/// its own shuffled Owen-scrambled Sobol sequence over the sample index (Burley 2020), which stratifies every
-/// dimension across a pixel's samples while keeping dimensions decorrelated. The even and the odd samples of a
-/// pixel are two independently scrambled sequences (index i >> 1 of scramble i & 1): randomized QMC with two
-/// independent replicates, so the film's two halves (sample_in_half_a, render/film.h) are independent and their
-/// difference estimates the error without the bias that stratification between the halves would cause.
+/// independent: PCG32 per pixel sample. sobol: each successive draw (a "pattern" of 1 to 4 numbers) of a pixel's
+/// samples is its own shuffled Owen-scrambled 4D Sobol pattern over the sample index (Burley 2020), which
+/// stratifies the dimensions of one draw jointly across a pixel's samples while keeping draws decorrelated. The
+/// integrator groups what it needs per path vertex into two 4D draws (light point + light choice + roulette;
+/// direction + lobe), as Cycles does.
+/// The even and the odd samples of a pixel are two independently scrambled sequences (index i >> 1 of scramble
+/// i & 1): randomized QMC with two independent replicates, so the film's two halves (sample_in_half_a,
+/// render/film.h) are independent and their difference estimates the error without the bias that stratification
+/// between the halves would cause.
 struct PixelSampler {
   SamplerKind kind = SamplerKind::independent;
   Pcg32 rng;
   uint32_t pixel_seed = 0;
-  uint32_t sample_index = 0;
-  uint32_t dimension = 0;
+  uint32_t rev_index = 0;  ///< the sample index, bit-reversed (what the Sobol tables read)
+  uint32_t dimension = 0;  ///< draws so far
 
   static PixelSampler start(uint64_t seed, uint64_t pixel_index, uint64_t sample_index,
                             SamplerKind kind = SamplerKind::independent) {
@@ -28,20 +31,37 @@ struct PixelSampler {
     if (kind == SamplerKind::independent) {
       s.rng = make_sample_rng(seed, pixel_index, sample_index);
     } else {
+      // The even and the odd samples are two independently scrambled sequences (see below).
       s.pixel_seed = uint32_t(hash_combine(mix_bits(seed + 0x51ed27u + (sample_index & 1u)), pixel_index));
-      s.sample_index = uint32_t(sample_index >> 1);
+      s.rev_index = reverse_bits(uint32_t(sample_index >> 1));
     }
     return s;
   }
-  uint32_t dimension_seed() { return hash_u32(pixel_seed ^ hash_u32(dimension++ * 0x9e3779b9u + 0x632be5abu)); }
+  uint32_t pattern_seed() { return hash_u32(pixel_seed ^ hash_u32(dimension++ * 0x9e3779b9u + 0x632be5abu)); }
+  float uniform() { return std::min(rng.next_float(), kOneMinusEpsilon); }
   float next1d() {
-    if (kind == SamplerKind::sobol) return sobol_owen_1d(sample_index, dimension_seed());
-    return std::min(rng.next_float(), kOneMinusEpsilon);
+    if (kind == SamplerKind::independent) return uniform();
+    float v;
+    sobol_owen_pattern<1>(rev_index, pattern_seed(), &v);
+    return v;
   }
   vec2 next2d() {
-    if (kind == SamplerKind::sobol) return sobol_owen_2d(sample_index, dimension_seed());
-    float a = std::min(rng.next_float(), kOneMinusEpsilon);
-    return {a, std::min(rng.next_float(), kOneMinusEpsilon)};
+    if (kind == SamplerKind::independent) {
+      float a = uniform();
+      return {a, uniform()};
+    }
+    float v[2];
+    sobol_owen_pattern<2>(rev_index, pattern_seed(), v);
+    return {v[0], v[1]};
+  }
+  /// The first n (1-4) numbers of one draw, into out[0..n).
+  template <int n>
+  void next(float* out) {
+    if (kind == SamplerKind::independent) {
+      for (int k = 0; k < n; ++k) out[k] = uniform();
+      return;
+    }
+    sobol_owen_pattern<n>(rev_index, pattern_seed(), out);
   }
 };
 

@@ -46,6 +46,39 @@ TEST(Sobol, OneDimensionIsStratified) {
     }
 }
 
+TEST(Sobol, DirectionNumbersGiveTheKnownFirstPoints) {
+  // The first points of the 4D Sobol sequence (Joe-Kuo parameters) in natural index order.
+  const double expected[8][4] = {{0, 0, 0, 0},          {0.5, 0.5, 0.5, 0.5},         {0.25, 0.75, 0.75, 0.75},
+                                 {0.75, 0.25, 0.25, 0.25}, {0.125, 0.625, 0.375, 0.125}, {0.625, 0.125, 0.875, 0.625},
+                                 {0.375, 0.375, 0.625, 0.875}, {0.875, 0.875, 0.125, 0.375}};
+  for (uint32_t i = 0; i < 8; ++i)
+    for (int d = 0; d < 4; ++d) EXPECT_EQ(sobol_reference(i, d) * 0x1p-32, expected[i][d]) << "index " << i << " dim " << d;
+}
+
+TEST(Sobol, ByteTablesMatchTheDefinitionOnTheTop24Bits) {
+  // The fast path reads the bit-reversed index a byte at a time, index bits 0-23; it must equal the plain XOR of
+  // direction numbers for every index below 2^24 (small ones and random ones).
+  uint32_t x = 12345u;
+  for (int n = 0; n < 20000; ++n) {
+    x = hash_u32(x + uint32_t(n));
+    uint32_t index = n < 4096 ? uint32_t(n) : x & 0xffffffu;
+    for (int d = 0; d < 4; ++d) {
+      uint32_t fast = reverse_bits(sobol_reversed(reverse_bits(index), d));
+      ASSERT_EQ(fast, sobol_reference(index, d)) << "index " << index << " dim " << d;
+    }
+  }
+}
+
+TEST(Sobol, EveryDimensionOfA4DPatternIsStratified) {
+  for (uint32_t seed : {5u, 991u})
+    for (int k = 0; k <= 12; ++k)
+      for (int d = 0; d < 4; ++d) {
+        std::set<int> cells;
+        for (uint32_t i = 0; i < (1u << k); ++i) cells.insert(int(sobol_owen_4d(i, seed)[d] * float(1 << k)));
+        EXPECT_EQ(cells.size(), size_t(1) << k) << "seed " << seed << " k " << k << " dim " << d;
+      }
+}
+
 TEST(Sobol, DifferentSeedsGiveDifferentPoints) {
   int same = 0;
   for (uint32_t i = 0; i < 64; ++i) same += sobol_owen_2d(i, 1) == sobol_owen_2d(i, 2);

@@ -47,11 +47,12 @@ Estimate estimate(const RenderScene& rs, const RenderParams& params, const Ray& 
   return e;
 }
 
-const IntegratorKind kIntegrators[] = {IntegratorKind::mis, IntegratorKind::nee, IntegratorKind::bsdf};
+const IntegratorKind kIntegrators[] = {IntegratorKind::mis, IntegratorKind::nee, IntegratorKind::bsdf,
+                                      IntegratorKind::automatic};
 const LightSampling kModes[] = {LightSampling::area, LightSampling::solid_angle};
 
 std::string config_name(IntegratorKind k, LightSampling m) {
-  const char* names[] = {"mis", "nee", "bsdf"};
+  const char* names[] = {"mis", "nee", "bsdf", "auto"};
   return std::string(names[int(k)]) + (m == LightSampling::area ? "/area" : "/solid-angle");
 }
 
@@ -256,28 +257,57 @@ TEST(SphereLight, IrradianceBelowASphereMatchesClosedForm) {
 }
 
 TEST(LightPdf, SampleAndPdfAgreeForEveryLightKind) {
-  // MIS is only unbiased if light_pdf returns the density sample_light used.
-  std::vector<Light> lights = {
-      make_rect_light(vec3(-0.5f, 1, -0.5f), vec3(0, 0, 1), vec3(1, 0, 0), vec3(1)),
-      make_rect_light(vec3(-0.5f, 1, -0.5f), vec3(0.2f, 0, 1), vec3(1, 0, 0), vec3(1)),  // parallelogram
-      make_triangle_light(vec3(-0.5f, 1, -0.5f), vec3(0.5f, 1, -0.5f), vec3(0, 1, 0.7f), vec3(1)),
-      make_sphere_light(vec3(0, 1.5f, 0), 0.4f, vec3(1)),
-      make_sphere_light(vec3(0, 400.0f, 0), 0.01f, vec3(1)),  // tiny cone
+  // MIS is only unbiased if light_pdf returns the density sample_light used. Every light faces the box its
+  // reference points are drawn from, and every (light, mode) pair must be checked often; the small and the large
+  // rectangle are placed so that their solid angle crosses the solid-angle/area switch (3e-4 and 6.22 sr) inside
+  // the box, and both sides of the switch must be seen.
+  struct Case {
+    const char* name;
+    Light light;
+    vec3 box_min, box_max;  ///< reference points, uniform in this box
+    float switch_at;        ///< a solid-angle threshold this case must cross (0: none)
+  };
+  const Case cases[] = {
+      {"rectangle", make_rect_light(vec3(-0.5f, 1, -0.5f), vec3(1, 0, 0), vec3(0, 0, 1), vec3(1)), vec3(-2, -0.5f, -2),
+       vec3(2, 0.9f, 2), 0.0f},
+      {"parallelogram", make_rect_light(vec3(-0.5f, 1, -0.5f), vec3(1, 0, 0), vec3(0.2f, 0, 1), vec3(1)),
+       vec3(-2, -0.5f, -2), vec3(2, 0.9f, 2), 0.0f},
+      {"small rectangle", make_rect_light(vec3(-0.01f, 1, -0.01f), vec3(0.02f, 0, 0), vec3(0, 0, 0.02f), vec3(1)),
+       vec3(-0.3f, -0.5f, -0.3f), vec3(0.3f, 0.5f, 0.3f), 3e-4f},
+      {"large rectangle", make_rect_light(vec3(-20, 1, -20), vec3(40, 0, 0), vec3(0, 0, 40), vec3(1)),
+       vec3(-1, 0.0f, -1), vec3(1, 0.9999f, 1), 6.22f},
+      {"triangle", make_triangle_light(vec3(-0.5f, 1, -0.5f), vec3(0.5f, 1, -0.5f), vec3(0, 1, 0.7f), vec3(1)),
+       vec3(-2, -0.5f, -2), vec3(2, 0.9f, 2), 0.0f},
+      {"sphere", make_sphere_light(vec3(0, 1.5f, 0), 0.4f, vec3(1)), vec3(-2, -0.5f, -2), vec3(2, 0.9f, 2), 0.0f},
+      {"tiny sphere", make_sphere_light(vec3(0, 400.0f, 0), 0.01f, vec3(1)), vec3(-2, -0.5f, -2), vec3(2, 0.9f, 2),
+       0.0f},
   };
   Pcg32 rng(3, 4);
-  int checked = 0;
-  for (const Light& light : lights)
-    for (LightSampling mode : kModes)
+  for (const Case& c : cases)
+    for (LightSampling mode : kModes) {
+      int checked = 0, below = 0, above = 0;
       for (int i = 0; i < 2000; ++i) {
-        vec3 ref(rng.next_float() * 4 - 2, rng.next_float() * 0.9f - 0.5f, rng.next_float() * 4 - 2);
+        vec3 t(rng.next_float(), rng.next_float(), rng.next_float());
+        vec3 ref = c.box_min + t * (c.box_max - c.box_min);
         LightSample ls;
-        if (!sample_light(light, ref, vec2(rng.next_float(), rng.next_float()), mode, ls)) continue;
-        vec3 n_light = light.kind == LightKind::sphere ? glm::normalize(ls.point.p - light.p0) : light.n;
-        float pdf = light_pdf(light, ref, ls.wi, ls.dist, n_light, mode);
-        ASSERT_NEAR(pdf, ls.pdf, 2e-3f * ls.pdf) << "light kind " << int(light.kind) << " mode " << int(mode);
+        if (!sample_light(c.light, ref, vec2(rng.next_float(), rng.next_float()), mode, ls)) continue;
+        vec3 n_light = c.light.kind == LightKind::sphere ? glm::normalize(ls.point.p - c.light.p0) : c.light.n;
+        float pdf = light_pdf(c.light, ref, ls.wi, ls.dist, n_light, mode);
+        ASSERT_NEAR(pdf, ls.pdf, 2e-3f * ls.pdf) << c.name << " mode " << int(mode) << " ref " << ref.x << ","
+                                                 << ref.y << "," << ref.z;
         ++checked;
+        if (c.switch_at > 0.0f) {
+          SphericalRectangle sr;
+          make_spherical_rectangle(ref, c.light.p0, c.light.e1, c.light.e2, sr);
+          (sr.solid_angle < c.switch_at ? below : above)++;
+        }
       }
-  EXPECT_GT(checked, 10000);
+      EXPECT_GE(checked, 1000) << c.name << " mode " << int(mode);
+      if (c.switch_at > 0.0f) {
+        EXPECT_GE(below, 100) << c.name << ": the switch at " << c.switch_at << " sr is not crossed";
+        EXPECT_GE(above, 100) << c.name << ": the switch at " << c.switch_at << " sr is not crossed";
+      }
+    }
 }
 
 // ---------------------------------------------------------------------------------------------------------------
@@ -296,6 +326,7 @@ TEST(Strategies, AllThreeConvergeToTheSameImage) {
   };
   for (const Ray& ray : rays) {
     RenderParams mis = base;
+    mis.integrator = IntegratorKind::mis;
     Estimate reference = estimate(rs, mis, ray, 60000, 21);
     for (IntegratorKind k : kIntegrators)
       for (LightSampling mode : kModes) {

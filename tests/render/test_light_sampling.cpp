@@ -1,14 +1,41 @@
-// Light sampling against its claimed densities (chi-square): rectangle lights by area, sphere lights by cone.
+// Light sampling against its claimed densities (chi-square), through sample_light, the code the integrator runs:
+// rectangle lights by area and by solid angle, a two-triangle OBJ-style light merged into one parallelogram light,
+// sphere lights by cone.
 #include <gtest/gtest.h>
 
 #include "../core/chi_square.h"
 #include "core/frame.h"
 #include "render/light.h"
+#include "render/render_scene.h"
+#include "scene_builders.h"
 
 namespace pt {
 namespace {
 
-const double kAlpha = 0.01 / 4;
+// 5 chi-square tests in this file; Bonferroni keeps the family's false alarm rate below 1%.
+const double kAlpha = 0.01 / 5;
+
+/// Chi-square of sample_light's points on a rectangle light over the rectangle's (a, b) parameters against the
+/// density it claims: pdf(omega) * d omega / d(a, b) = ls.pdf * area * cos_l / dist^2 must be what sample_light
+/// returns as ls.pdf, and the points must follow it.
+test::ChiSquareResult rect_chi_square(const Light& l, vec3 ref, LightSampling mode, uint64_t seed) {
+  const float l1 = glm::length(l.e1), l2 = glm::length(l.e2);
+  auto sample = [&](vec2 u) {
+    LightSample ls;
+    if (!sample_light(l, ref, u, mode, ls)) return vec2(-1.0f);
+    vec3 p = ls.point.p - l.p0;
+    return vec2(glm::dot(p, l.e1) / (l1 * l1), glm::dot(p, l.e2) / (l2 * l2));
+  };
+  auto density = [&](vec2 x) {
+    vec3 p = l.p0 + x.x * l.e1 + x.y * l.e2;
+    vec3 d = p - ref;
+    double dist = glm::length(d);
+    double cos_l = std::abs(glm::dot(d, l.n)) / dist;
+    float pdf = light_pdf(l, ref, vec3(d / float(dist)), float(dist), l.n, mode);
+    return double(pdf) * l.area * cos_l / (dist * dist);
+  };
+  return test::chi_square_2d(sample, density, 20, 20, 400000, seed);
+}
 
 TEST(LightSampling, RectangleByAreaIsUniformOverTheRectangle) {
   Light l = make_rect_light(vec3(-0.5f, 1, -0.3f), vec3(1.2f, 0, 0), vec3(0, 0.2f, 0.8f), vec3(1));
@@ -24,6 +51,46 @@ TEST(LightSampling, RectangleByAreaIsUniformOverTheRectangle) {
       },
       [](vec2) { return 1.0; }, 20, 20, 400000, 21);
   EXPECT_GT(r.p_value, kAlpha) << r.describe();
+}
+
+TEST(LightSampling, RectangleBySolidAngleFollowsItsPdf) {
+  Light l = make_rect_light(vec3(-0.5f, 1, -0.5f), vec3(1, 0, 0), vec3(0, 0, 1), vec3(1));  // faces -y
+  vec3 ref(0.3f, 0.4f, 0.2f);
+  SphericalRectangle sr;
+  ASSERT_TRUE(make_spherical_rectangle(ref, l.p0, l.e1, l.e2, sr));
+  ASSERT_GT(sr.solid_angle, 3e-4f);  // inside the solid-angle range, so this is the spherical-rectangle path
+  ASSERT_LT(sr.solid_angle, 6.22f);
+  auto r = rect_chi_square(l, ref, LightSampling::solid_angle, 23);
+  EXPECT_GT(r.p_value, kAlpha) << r.describe();
+  EXPECT_NEAR(r.expected_total / 400000, 1.0, 2e-3);
+}
+
+TEST(LightSampling, TwoTrianglesOfAQuadBecomeOneSolidAngleSampledLight) {
+  // An OBJ quad arrives as two triangles sharing a diagonal; they must become one rectangle light that both
+  // triangles map to, sampled by solid angle.
+  Scene s;
+  uint32_t white = test::add_material(s, test::diffuse(vec3(0.5f)));
+  uint32_t light = test::add_material(s, test::diffuse(vec3(0.0f), vec3(4.0f)));
+  Mesh m;
+  m.positions = {vec3(-0.5f, 1, -0.5f), vec3(0.5f, 1, -0.5f), vec3(0.5f, 1, 0.5f), vec3(-0.5f, 1, 0.5f),
+                 vec3(-5, 0, -5), vec3(5, 0, -5), vec3(5, 0, 5)};
+  m.indices = {uvec3(0, 1, 2), uvec3(0, 2, 3), uvec3(4, 6, 5)};  // clockwise seen from above: the light faces down
+  m.materials = {light, light, white};
+  s.meshes.push_back(m);
+  RenderScene rs = make_render_scene(s);
+  ASSERT_EQ(rs.lights.lights.size(), 1u);
+  EXPECT_EQ(rs.tri_light[0], 0);
+  EXPECT_EQ(rs.tri_light[1], 0);
+  EXPECT_EQ(rs.tri_light[2], -1);
+  const Light& l = rs.lights.lights[0];
+  ASSERT_EQ(l.kind, LightKind::rect);
+  EXPECT_TRUE(l.rectangular);
+  EXPECT_NEAR(l.area, 1.0f, 1e-6f);
+  EXPECT_NEAR(l.n.y, -1.0f, 1e-6f);
+  vec3 ref = vec3(0.3f, 0.4f, 0.2f) - rs.geo->origin;
+  auto r = rect_chi_square(l, ref, LightSampling::solid_angle, 24);
+  EXPECT_GT(r.p_value, kAlpha) << r.describe();
+  EXPECT_NEAR(r.expected_total / 400000, 1.0, 2e-3);
 }
 
 TEST(LightSampling, SphereConeSamplingIsUniformInSolidAngle) {
