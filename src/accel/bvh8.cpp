@@ -60,8 +60,12 @@ struct CollapsePlan {
     for (size_t i = binary.nodes.size(); i-- > 0;) {
       const BvhNode& n = binary.nodes[i];
       Entry& x = e[i];
-      const float area = n.bounds.half_area();
+      // Non-finite or overflowing boxes (primitives near 1e30, empty boxes of non-finite ones) must not make every
+      // comparison below false: costs saturate at infinity, and the splits keep valid defaults.
+      const float raw_area = n.bounds.half_area();
+      const float area = raw_area >= 0.0f && raw_area < kInfinity ? raw_area : kInfinity;
       float as_leaf = kInfinity, as_node = kInfinity;
+      x.node_split = 4;
       if (n.is_leaf()) {
         x.first = n.first;
         x.count = n.count;
@@ -76,7 +80,7 @@ struct CollapsePlan {
         as_node += kNodeCost * area;
       }
       if (x.count <= kMaxLeafPrims) as_leaf = kBlockCost * area * float((x.count + 3) / 4);
-      x.leaf = as_leaf <= as_node;
+      x.leaf = x.count <= kMaxLeafPrims && as_leaf <= as_node;  // never a leaf too big, even at infinite costs
       x.slots[0] = std::min(as_leaf, as_node);
       x.split[0] = 0;
       for (int k = 2; k <= 8; ++k) {

@@ -309,7 +309,7 @@ TEST(Gltf, SceneJsonMeshShapeTransformsOverridesAndPicksCamera) {
     {"type": "mesh", "file": "t.glb", "material": "blue", "transform": {"scale": 2}}]})");
   Scene s = load_ok(dir / "s.json");
   ASSERT_EQ(s.meshes.size(), 2u);
-  EXPECT_EQ(s.meshes[0].positions[s.meshes[0].indices[0].x], vec3(0, 0, -10));
+  EXPECT_EQ(s.meshes[0].world_position(s.meshes[0].indices[0].x), vec3(0, 0, -10));
   EXPECT_EQ(s.materials[s.meshes[0].materials[0]].name, "red");
   EXPECT_EQ(s.materials[s.meshes[1].materials[0]].name, "blue");
   EXPECT_EQ(mesh_bounds(s).hi, vec3(2, 2, 0));
