@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -65,6 +66,27 @@ inline int count_lines(const std::string& s) {
   for (char c : s) n += c == '\n';
   if (!s.empty() && s.back() != '\n') ++n;
   return n;
+}
+
+/// Command lines that must each fail with exit 2 and one stderr line mentioning `mentions`, writing nothing: the
+/// bad-input contract, shared by every command-line test file.
+struct BadArgs {
+  std::vector<std::string> args;
+  std::string mentions;
+};
+/// Runs every case; `out` is the output path the cases name (it must not appear), `dir` must stay empty.
+inline void expect_bad_args_fail_cleanly(std::span<const BadArgs> cases, const std::string& out, const TempDir& dir) {
+  for (const BadArgs& c : cases) {
+    RunResult r = run_ptview(c.args, 60);
+    std::string joined;
+    for (auto& a : c.args) joined += a + " ";
+    EXPECT_EQ(r.exit_code, 2) << joined << "\n" << r.err;
+    EXPECT_EQ(count_lines(r.err), 1) << joined << "\n" << r.err;
+    EXPECT_NE(r.err.find(c.mentions), std::string::npos) << joined << "\n" << r.err;
+    EXPECT_FALSE(std::filesystem::exists(out)) << joined;
+  }
+  // Nothing half-written was left behind.
+  for (auto& entry : std::filesystem::directory_iterator(dir.path)) ADD_FAILURE() << "left behind: " << entry.path();
 }
 
 }  // namespace pt::test

@@ -15,6 +15,8 @@ using test::count_lines;
 using test::read_file;
 using test::run_ptview;
 using test::TempDir;
+using test::BadArgs;
+using test::expect_bad_args_fail_cleanly;
 
 TEST(Cli, RendersTheBuiltInSceneToPng) {
   TempDir dir;
@@ -85,11 +87,6 @@ TEST(Cli, HelpExitsZero) {
   EXPECT_NE(r.out.find("--frames"), std::string::npos);
 }
 
-struct BadArgs {
-  std::vector<std::string> args;
-  std::string mentions;
-};
-
 TEST(Cli, BadOptionsExitTwoWithOneLine) {
   TempDir dir;
   const std::string out = dir / "x.png";
@@ -120,18 +117,7 @@ TEST(Cli, BadOptionsExitTwoWithOneLine) {
       {{"/nonexistent/scene.json", "--frames", "1", "--out", out}, "/nonexistent/scene.json"},
       {{dir / "scene.txt", "--frames", "1", "--out", out}, "scene.txt"},
   };
-  for (const BadArgs& c : cases) {
-    auto r = run_ptview(c.args, 60);
-    std::string joined;
-    for (auto& a : c.args) joined += a + " ";
-    EXPECT_EQ(r.exit_code, 2) << joined << "\n" << r.err;
-    EXPECT_EQ(count_lines(r.err), 1) << joined << "\n" << r.err;
-    EXPECT_NE(r.err.find(c.mentions), std::string::npos) << joined << "\n" << r.err;
-    EXPECT_FALSE(std::filesystem::exists(out)) << joined;
-  }
-  // Nothing half-written was left behind.
-  for (auto& entry : std::filesystem::directory_iterator(dir.path))
-    ADD_FAILURE() << "left behind: " << entry.path();
+  expect_bad_args_fail_cleanly(cases, out, dir);
 }
 
 TEST(Cli, ReferenceOfTheWrongSizeIsRejected) {

@@ -15,6 +15,8 @@ using test::count_lines;
 using test::read_file;
 using test::run_ptview;
 using test::TempDir;
+using test::BadArgs;
+using test::expect_bad_args_fail_cleanly;
 
 TEST(ConvergenceCli, ErrorCsvWithoutAReferenceHasEmptyReferenceColumns) {
   TempDir dir;
@@ -95,11 +97,6 @@ TEST(ConvergenceCli, AdaptiveImageIsIdenticalForAnyThreadCount) {
   EXPECT_EQ(read_file(dir / "s1.pfm"), read_file(dir / "s3.pfm"));
 }
 
-struct BadArgs {
-  std::vector<std::string> args;
-  std::string mentions;
-};
-
 TEST(ConvergenceCli, BadValuesExitTwoWithOneLine) {
   TempDir dir;
   const std::string out = dir / "x.png";
@@ -119,16 +116,7 @@ TEST(ConvergenceCli, BadValuesExitTwoWithOneLine) {
       {{"--frames", "1", "--spp-map", dir / "nodir/s.pfm", "--out", out}, "nodir"},
       {{"--error-map", dir / "e.pfm"}, "--error-map"},  // not headless
   };
-  for (const BadArgs& c : cases) {
-    auto r = run_ptview(c.args, 60);
-    std::string joined;
-    for (auto& a : c.args) joined += a + " ";
-    EXPECT_EQ(r.exit_code, 2) << joined << "\n" << r.err;
-    EXPECT_EQ(count_lines(r.err), 1) << joined << "\n" << r.err;
-    EXPECT_NE(r.err.find(c.mentions), std::string::npos) << joined << "\n" << r.err;
-    EXPECT_FALSE(std::filesystem::exists(out)) << joined;
-  }
-  for (auto& entry : std::filesystem::directory_iterator(dir.path)) ADD_FAILURE() << "left behind: " << entry.path();
+  expect_bad_args_fail_cleanly(cases, out, dir);
 }
 
 }  // namespace
