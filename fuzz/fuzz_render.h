@@ -7,8 +7,8 @@
 // carried in the same input (and "mtllib m.mtl" in it the MTL). Side files an input does not carry are removed
 // before it runs, so every input is reproducible on its own.
 //
-// Hook for the glTF loader: once load_json dispatches "file": "*.gltf" / "*.glb" to it, add "m.gltf" and "m.bin"
-// (and "m.glb") to kSideFiles and a seed with "--- m.gltf" to fuzz/corpus/render; nothing else changes.
+// glTF joins through the same side files: {"type":"mesh","file":"m.gltf"} loads "--- m.gltf" (JSON, with its
+// buffer in "--- m.bin" or a data URI).
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
@@ -22,7 +22,7 @@
 
 namespace pt::fuzz {
 
-inline constexpr std::string_view kSideFiles[] = {"m.obj", "m.mtl"};
+inline constexpr std::string_view kSideFiles[] = {"m.obj", "m.mtl", "m.gltf", "m.bin"};
 
 /// Render settings of every input: 8x8 pixels, 2 spp, max depth 4, one thread.
 inline constexpr int kRenderSize = 8;
