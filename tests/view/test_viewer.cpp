@@ -140,6 +140,18 @@ TEST(Viewer, OrbitShowsTheImageOfTheOrbitedCamera) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   Camera before = builtin_camera("cornell-spheres"), after = before;
   orbit_camera(after, 35, 10);
+  {
+    // The orbit itself, independently of orbit_camera: the eye keeps its distance to the target, turns +35 degrees
+    // about up (right-handed, so a mirrored orbit fails) and rises by 10 degrees of elevation.
+    const dvec3 up = glm::normalize(dvec3(before.up)), o0 = dvec3(before.eye - before.target),
+                o1 = dvec3(after.eye - after.target);
+    EXPECT_NEAR(glm::length(o1), glm::length(o0), 1e-4 * glm::length(o0));
+    auto flat = [&](dvec3 v) { return glm::normalize(v - glm::dot(v, up) * up); };
+    const double yaw = std::atan2(glm::dot(glm::cross(flat(o0), flat(o1)), up), glm::dot(flat(o0), flat(o1)));
+    EXPECT_NEAR(glm::degrees(yaw), 35.0, 1e-3);
+    auto elevation = [&](dvec3 v) { return glm::degrees(std::asin(glm::dot(glm::normalize(v), up))); };
+    EXPECT_NEAR(elevation(o1) - elevation(o0), 10.0, 1e-3);
+  }
   write_builtin_with_camera("cornell-spheres", after, dir / "after.json");
   write_builtin_with_camera("cornell-spheres", before, dir / "before.json");
   for (const char* name : {"after", "before"}) {
