@@ -2,6 +2,7 @@
 /// Entry points of the program: parse, load, then run headless or open the viewer.
 #include "app/options.h"
 #include "dist/cluster.h"
+#include "render/image_error.h"
 #include "render/render_scene.h"
 #include "render/stats.h"
 #include "render/stats_json.h"
@@ -14,12 +15,5 @@ int run_app(int argc, const char* const* argv);
 /// Renders options.frames frames (or until the time limit) without a window, writes outputs; returns exit code.
 /// With several ranks (src/dist), each renders its share of the frames and rank 0 writes the outputs.
 int run_headless(const AppOptions& options, const Scene& scene, Cluster& cluster);
-
-/// Root-mean-square error and relative MSE (mean of (x - r)^2 / (r^2 + 0.01) over pixels and channels).
-struct ImageError {
-  double rmse = 0.0;
-  double rel_mse = 0.0;
-};
-ImageError compare_images(const Image& image, const Image& reference);
 
 }  // namespace pt

@@ -3,6 +3,8 @@
 #include <imgui.h>
 
 #include <algorithm>
+#include <cfloat>
+#include <cmath>
 
 #include "render/names.h"
 
@@ -58,6 +60,23 @@ void render_panel(ViewerState& st, PanelState& ps) {
   if (ImGui::Checkbox("pause", &paused)) st.session->set_paused(paused);
   ImGui::SameLine();
   if (ImGui::Button("restart")) st.apply(RestartEdit{});
+  AdaptiveParams a = st.adaptive;
+  bool adaptive_on = a.enabled();
+  float threshold = float(a.enabled() ? a.noise_threshold : ps.noise_threshold);
+  bool changed = ImGui::Checkbox("adaptive", &adaptive_on);
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("pixels whose relative standard error is below the threshold stop");
+  ImGui::SameLine();
+  ImGui::PushItemWidth(ImGui::GetContentRegionAvail().x * 0.6f);
+  changed |= ImGui::SliderFloat("threshold", &threshold, 0.001f, 1.0f, "%.4f", ImGuiSliderFlags_Logarithmic);
+  ImGui::PopItemWidth();
+  if (changed) {
+    ps.noise_threshold = std::clamp(double(threshold), 1e-4, 1.0);
+    a.noise_threshold = adaptive_on ? ps.noise_threshold : 0.0;
+    st.apply(AdaptiveEdit{a});  // Tier::sampling: no restart
+  }
+  if (a.enabled())
+    ImGui::TextDisabled("stopped %.1f%% of pixels%s", 100.0 * st.frame.converged_fraction,
+                        st.frame.converged ? "  (converged)" : "");
   if (ImGui::InputInt("stop at spp", &ps.target_spp)) {
     ps.target_spp = std::max(0, ps.target_spp);
     st.session->set_target_spp(ps.target_spp);
@@ -181,10 +200,54 @@ void scene_panel(ViewerState& st, PanelState& ps) {
 }
 
 void display_panel(ViewerState& st) {
+  DisplayMode mode = st.display_mode;
+  if (name_combo<DisplayMode>("show", kDisplayModeNames, mode) && st.apply(DisplayModeEdit{mode}) == Tier::none)
+    st.status = "reference-error needs --reference";
   DisplaySettings d = st.display;
   bool changed = ImGui::SliderFloat("exposure", &d.exposure, -8.0f, 8.0f, "%.2f stops");
   changed |= name_combo<Tonemap>("tonemap", kTonemapNames, d.tonemap);
   if (changed) st.apply(DisplayEdit{d});
+}
+
+/// Estimated (and, with --reference, true) relMSE, the error-vs-time plot and the ETA to the noise threshold.
+void convergence_stats(const ViewerState& st) {
+  const SessionFrame& f = st.frame;
+  if (f.preview || !std::isfinite(f.est_rel_mse) || f.est_rel_mse <= 0) {
+    ImGui::TextDisabled("est relMSE: needs 2+ spp");
+  } else {
+    ImGui::Text("est relMSE %.3g", f.est_rel_mse);
+  }
+  double rel = st.true_rel_mse();
+  if (std::isfinite(rel)) {
+    ImGui::SameLine();
+    ImGui::Text("  true relMSE %.3g", rel);
+  }
+  const auto& hist = st.error_history;
+  if (hist.size() >= 2) {
+    // log-log: resampled at even steps of log10(time) so early frames are not squeezed into the left edge.
+    constexpr int kPoints = 64;
+    float values[kPoints];
+    double t0 = std::log10(hist.front().first), t1 = std::log10(hist.back().first);
+    size_t j = 0;
+    for (int i = 0; i < kPoints; ++i) {
+      double t = t0 + (t1 - t0) * i / (kPoints - 1);
+      while (j + 1 < hist.size() && std::log10(hist[j + 1].first) <= t) ++j;
+      values[i] = float(std::log10(hist[j].second));
+    }
+    char overlay[64];
+    std::snprintf(overlay, sizeof overlay, "log10 relMSE vs log10 t (%.2g..%.2g s)", hist.front().first,
+                  hist.back().first);
+    ImGui::PlotLines("##error", values, kPoints, 0, overlay, FLT_MAX, FLT_MAX, ImVec2(ImGui::GetContentRegionAvail().x, 70));
+  }
+  if (st.adaptive.enabled() && std::isfinite(f.est_rel_mse) && f.est_rel_mse > 0 && f.seconds > 0) {
+    // relMSE falls as 1/t, and the threshold bounds each pixel's relative standard error, so the image is done
+    // about when its relMSE reaches threshold^2: t_done = t * est / T^2.
+    double target = st.adaptive.noise_threshold * st.adaptive.noise_threshold;
+    double eta = f.seconds * f.est_rel_mse / target - f.seconds;
+    if (f.converged) ImGui::Text("converged to threshold %.3g", st.adaptive.noise_threshold);
+    else if (eta <= 0) ImGui::Text("ETA to threshold: finishing the last pixels");
+    else ImGui::Text("ETA to threshold %.3g: %.1f s", st.adaptive.noise_threshold, eta);
+  }
 }
 
 void stats_panel(const ViewerState& st) {
@@ -194,6 +257,7 @@ void stats_panel(const ViewerState& st) {
   ImGui::Text("%d x %d%s", f.width, f.height, f.preview ? "  (preview)" : "");
   ImGui::Text("spp %d   %.1f spp/s   %.2f Mrays/s", f.spp, sps, mrays);
   ImGui::Text("elapsed %.1f s   threads %d", f.seconds, st.session->thread_count());
+  convergence_stats(st);
   ImGui::Text("non-finite samples %llu", (unsigned long long)f.counters.nonfinite_samples);
   std::vector<double> lat = st.restart_latency_ms;
   std::sort(lat.begin(), lat.end());

@@ -71,6 +71,23 @@ std::string check_tonemap(const std::vector<std::string>& a) {
                                                       names_list<Tonemap>(kTonemapNames) + ")";
 }
 
+std::string check_display_mode(const std::vector<std::string>& a) {
+  return value_of<DisplayMode>(kDisplayModeNames, a[0]) ? ""
+                                                        : "unknown display mode '" + a[0] + "' (expected " +
+                                                              names_list<DisplayMode>(kDisplayModeNames) + ")";
+}
+
+std::string check_noise_threshold(const std::vector<std::string>& a) {
+  double t = std::strtod(a[0].c_str(), nullptr);
+  if (!(t >= 0.0 && t <= 1.0)) return "'" + a[0] + "': the threshold must be from 0 (off) to 1";
+  if (a.size() > 1) {
+    double m = std::strtod(a[1].c_str(), nullptr);
+    if (!(m >= 0 && m == std::floor(m) && m <= (1 << 24)))
+      return "'" + a[1] + "': the minimum spp must be an integer from 0 (automatic) to 16777216";
+  }
+  return {};
+}
+
 /// The camera commands: a copy of the camera moved, applied as a CameraEdit.
 template <class F>
 ScriptStep move_camera(ViewerState& st, F&& f) {
@@ -175,6 +192,21 @@ const ScriptCommandSpec kCommands[] = {
        DisplaySettings d = st.display;
        d.tonemap = *value_of<Tonemap>(kTonemapNames, c.args[0]);
        st.apply(DisplayEdit{d});
+       return ScriptStep::done;
+     }},
+    {"display", "image|error|samples|reference-error", 1, 1, false, check_display_mode,
+     [](ScriptRun& r, ViewerState& st, const ScriptCommand& c) {
+       if (st.apply(DisplayModeEdit{*value_of<DisplayMode>(kDisplayModeNames, c.args[0])}) == Tier::none &&
+           c.args[0] == "reference-error")
+         fail(r, c, "display reference-error: needs --reference");
+       return ScriptStep::done;
+     }},
+    {"noise-threshold", "T [MIN_SPP]", 1, 2, true, check_noise_threshold,
+     [](ScriptRun&, ViewerState& st, const ScriptCommand& c) {
+       AdaptiveParams a;
+       a.noise_threshold = std::strtod(c.args[0].c_str(), nullptr);
+       a.min_spp = c.args.size() > 1 ? int(num(c, 1)) : 0;
+       st.apply(AdaptiveEdit{a});  // no restart: stopped pixels resume when the threshold drops
        return ScriptStep::done;
      }},
     {"load", "PATH", 1, 1, false, check_none,

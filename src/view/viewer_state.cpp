@@ -1,8 +1,11 @@
 #include "view/viewer_state.h"
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 
 #include "render/camera.h"
+#include "render/image_error.h"
 #include "render/stats_json.h"
 #include "scene/load.h"
 #include "scene/save_json.h"
@@ -44,7 +47,10 @@ void ViewerState::init(Scene s, const RenderParams& p, const DisplaySettings& d,
   loaded_materials = scene.materials;
   lights = find_scene_lights(scene);
   render_scene = std::make_shared<RenderScene>(make_render_scene(scene, geo));
-  if (threads >= 0) session = std::make_unique<RenderSession>(threads);
+  if (threads >= 0) {
+    session = std::make_unique<RenderSession>(threads);
+    session->set_adaptive(adaptive);
+  }
   restart();
 }
 
@@ -60,7 +66,8 @@ void ViewerState::restart() {
 Tier ViewerState::commit(Tier tier) {
   switch (tier) {
     case Tier::none:
-    case Tier::display: return tier;
+    case Tier::display:
+    case Tier::sampling: return tier;
     case Tier::camera: {
       auto rs = std::make_shared<RenderScene>(*render_scene);
       rs->camera = scene.camera.value_or(Camera{});
@@ -104,6 +111,22 @@ Tier ViewerState::apply(const Edit& edit) {
     Tier operator()(const DisplayEdit& e) const {
       st.display = e.display;
       return Tier::display;
+    }
+    Tier operator()(const DisplayModeEdit& e) const {
+      if (e.mode == DisplayMode::reference_error && !st.reference) return Tier::none;
+      st.display_mode = e.mode;
+      st.display_dirty = true;
+      if (st.session) st.session->set_publish_maps(e.mode == DisplayMode::error || e.mode == DisplayMode::samples);
+      return Tier::display;
+    }
+    Tier operator()(const AdaptiveEdit& e) const {
+      AdaptiveParams a = e.adaptive;
+      if (!std::isfinite(a.noise_threshold) || a.noise_threshold < 0.0 || a.noise_threshold > 1.0 || a.min_spp < 0)
+        return Tier::none;
+      if (a.noise_threshold == st.adaptive.noise_threshold && a.min_spp == st.adaptive.min_spp) return Tier::none;
+      st.adaptive = a;
+      if (st.session) st.session->set_adaptive(a);
+      return Tier::sampling;
     }
     Tier operator()(const MaterialEdit& e) const {
       if (e.index < 0 || size_t(e.index) >= st.scene.materials.size()) return Tier::none;
@@ -207,6 +230,19 @@ std::optional<Error> ViewerState::save_scene(const std::string& path) {
   return err;
 }
 
+void ViewerState::note_frame() {
+  if (!error_history.empty() && (frame.seconds < error_history.back().first || frame.preview)) error_history.clear();
+  if (!frame.preview && frame.seconds > 0 && std::isfinite(frame.est_rel_mse) && frame.est_rel_mse > 0)
+    error_history.emplace_back(frame.seconds, frame.est_rel_mse);
+  if (error_history.size() > 4096) error_history.erase(error_history.begin(), error_history.begin() + 2048);
+}
+
+double ViewerState::true_rel_mse() const {
+  if (!reference || frame.preview || frame.image.width != reference->width || frame.image.height != reference->height)
+    return std::numeric_limits<double>::quiet_NaN();
+  return compare_images(frame.image, *reference).rel_mse;
+}
+
 std::string ViewerState::stats_json() const {
   double elapsed = std::chrono::duration<double>(Clock::now() - start_time).count();
   RunSummary run;
@@ -217,6 +253,13 @@ std::string ViewerState::stats_json() const {
   run.counters = frame.counters;
   run.threads = session ? session->thread_count() : 0;
   run.epoch = frame.epoch;
+  run.convergence.est_rel_mse = frame.preview ? std::numeric_limits<double>::quiet_NaN() : frame.est_rel_mse;
+  run.convergence.converged_fraction = frame.converged_fraction;
+  run.convergence.spp = frame.spp_stats;
+  if (adaptive.enabled()) {
+    run.convergence.noise_threshold = adaptive.noise_threshold;
+    run.convergence.min_spp = effective_min_spp(adaptive);
+  }
   RenderParams shown = params;
   shown.width = frame.width;
   shown.height = frame.height;
@@ -229,6 +272,11 @@ std::string ViewerState::stats_json() const {
   j["restarts"] = restarts;
   j["geometry_builds"] = geometry_builds;
   j["geometry_refits"] = geometry_refits;
+  j["display_mode"] = name_of<DisplayMode>(kDisplayModeNames, display_mode);
+  if (reference) {
+    double rel = true_rel_mse();
+    j["rel_mse"] = std::isfinite(rel) ? nlohmann::json(rel) : nlohmann::json(nullptr);
+  }
   return j.dump(2) + "\n";
 }
 

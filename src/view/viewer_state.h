@@ -36,6 +36,12 @@ struct LoadProgress {
 struct ViewerState {
   RenderParams params;         ///< full-resolution parameters
   DisplaySettings display;
+  DisplayMode display_mode = DisplayMode::image;
+  bool display_dirty = true;   ///< the shown image must be rebuilt from `frame` (a display-mode change)
+  AdaptiveParams adaptive;     ///< adaptive sampling as last applied to the session
+  std::optional<Image> reference;  ///< --reference, for the true relMSE and the reference-error mode
+  /// (seconds, est relMSE) of the current epoch's full frames, for the Stats panel's error-vs-time plot.
+  std::vector<std::pair<double, double>> error_history;
   Scene scene;
   Camera home_camera;
   std::shared_ptr<const RenderGeometry> geo;
@@ -71,6 +77,10 @@ struct ViewerState {
   /// Installs `scene` (finalized) and builds its geometry on this thread; with `threads` >= 0 also starts a render
   /// session (tests without rendering pass -1).
   void init(Scene scene, const RenderParams& params, const DisplaySettings& display, int threads);
+  /// Takes a newly fetched frame: records its error history (reset with each epoch).
+  void note_frame();
+  /// True relMSE of the current frame against the reference (NaN without one or when the sizes differ).
+  double true_rel_mse() const;
 
   /// Applies an edit: the one place that chooses and performs the restart tier. Returns the tier performed (none
   /// when the edit was rejected or changed nothing).

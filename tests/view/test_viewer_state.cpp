@@ -4,12 +4,15 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <cmath>
 #include <filesystem>
+#include <limits>
 #include <fstream>
 #include <thread>
 
 #include "scene/builtin_assets.h"
 #include "scene/load.h"
+#include "view/display_mode.h"
 #include "view/script.h"
 #include "view/viewer_state.h"
 
@@ -141,6 +144,74 @@ TEST(Tiers, TierOfAgreesWithApplyForEveryKind) {
   EXPECT_EQ(tier_of(LightEmissionEdit{}), Tier::material);
   EXPECT_EQ(tier_of(LightShapeEdit{}), Tier::light_refit);
   EXPECT_EQ(tier_of(SceneEdit{}), Tier::rebuild);
+  EXPECT_EQ(tier_of(DisplayModeEdit{}), Tier::display);
+  EXPECT_EQ(tier_of(AdaptiveEdit{}), Tier::sampling);
+}
+
+TEST(Tiers, DisplayModesAndAdaptiveSamplingNeverRestart) {
+  ViewerState st;
+  st.init(builtin("cornell"), small_params(), {}, 1);
+  const uint64_t epoch0 = st.session->epoch();
+  const int restarts0 = st.restarts;
+  for (DisplayMode m : {DisplayMode::error, DisplayMode::samples, DisplayMode::image}) {
+    st.display_dirty = false;
+    EXPECT_EQ(st.apply(DisplayModeEdit{m}), Tier::display);
+    EXPECT_EQ(st.display_mode, m);
+    EXPECT_TRUE(st.display_dirty) << "the shown image must be rebuilt";
+  }
+  EXPECT_EQ(st.apply(DisplayModeEdit{DisplayMode::reference_error}), Tier::none) << "no reference";
+  EXPECT_EQ(st.display_mode, DisplayMode::image);
+  st.reference = Image(32, 24);
+  EXPECT_EQ(st.apply(DisplayModeEdit{DisplayMode::reference_error}), Tier::display);
+
+  AdaptiveParams a;
+  a.noise_threshold = 0.1;
+  EXPECT_EQ(st.apply(AdaptiveEdit{a}), Tier::sampling);
+  EXPECT_EQ(st.apply(AdaptiveEdit{a}), Tier::none) << "unchanged";
+  a.noise_threshold = 0.01;  // lowering resumes stopped pixels in the same epoch
+  EXPECT_EQ(st.apply(AdaptiveEdit{a}), Tier::sampling);
+  EXPECT_EQ(st.adaptive.noise_threshold, 0.01);
+  for (double bad : {-0.5, 1.5, std::numeric_limits<double>::quiet_NaN()}) {
+    AdaptiveParams b = a;
+    b.noise_threshold = bad;
+    EXPECT_EQ(st.apply(AdaptiveEdit{b}), Tier::none) << bad;
+  }
+  EXPECT_EQ(st.adaptive.noise_threshold, 0.01);
+  EXPECT_EQ(st.apply(AdaptiveEdit{AdaptiveParams{}}), Tier::sampling) << "off";
+  EXPECT_EQ(st.restarts, restarts0);
+  EXPECT_EQ(st.session->epoch(), epoch0);
+}
+
+TEST(DisplayModes, HeatmapsShowTheMapsAndFallBackToTheImage) {
+  SessionFrame f;
+  f.image = Image(4, 2);
+  for (float& v : f.image.rgb) v = 0.5f;
+  Image out;
+  HeatLegend legend;
+  EXPECT_FALSE(make_display_image(DisplayMode::error, f, nullptr, out, legend)) << "no map published yet";
+  EXPECT_EQ(out.rgb, f.image.rgb);
+  f.rel_error = Image(4, 2);
+  for (size_t i = 0; i < 8; ++i) f.rel_error.set(int(i % 4), int(i / 4), vec3(float(std::pow(10.0, -3.0 + double(i) / 2))));
+  f.rel_error.set(0, 0, vec3(std::numeric_limits<float>::infinity()));
+  ASSERT_TRUE(make_display_image(DisplayMode::error, f, nullptr, out, legend));
+  EXPECT_TRUE(legend.log);
+  EXPECT_EQ(out.at(0, 0), vec3(0.18f)) << "unknown error is grey";
+  for (int i = 2; i < 7; ++i)  // brighter with larger error up to the top of the scale (1) (the colour map's luminance increases)
+    EXPECT_GT(glm::dot(out.at(i % 4, i / 4), vec3(0.2126f, 0.7152f, 0.0722f)),
+              glm::dot(out.at((i - 1) % 4, (i - 1) / 4), vec3(0.2126f, 0.7152f, 0.0722f))) << i;
+  f.spp_map = Image(4, 2);
+  f.spp_map.set(3, 1, vec3(64.0f));
+  ASSERT_TRUE(make_display_image(DisplayMode::samples, f, nullptr, out, legend));
+  EXPECT_EQ(legend.hi, 64.0);
+  EXPECT_NE(out.at(3, 1), out.at(0, 0));
+  EXPECT_EQ(out.at(1, 0), out.at(0, 0));
+  Image ref = f.image;
+  ref.set(1, 1, vec3(0.25f));  // |0.5 - 0.25| / 0.25 = 1: the top of the scale; elsewhere 0: the bottom
+  ASSERT_TRUE(make_display_image(DisplayMode::reference_error, f, &ref, out, legend));
+  EXPECT_GT(out.at(1, 1).x, 0.9f);  // the top colour (0.99, 1, 0.64) in sRGB
+  EXPECT_LT(out.at(0, 0).x, 1e-3f);
+  Image other(2, 2);
+  EXPECT_FALSE(make_display_image(DisplayMode::reference_error, f, &other, out, legend)) << "size differs";
 }
 
 /// Waits for a frame of the session's current epoch (generous deadline: a hang, not slowness, fails).
@@ -323,6 +394,12 @@ TEST(Script, EveryMalformedFormIsRejectedWithItsLine) {
       {"set-material diffuse roughness=1", "expected albedo"},
       {"tonemap Reinhard", "unknown tonemap"},
       {"exposure", "takes 1 argument"},
+      {"display heat", "unknown display mode"},
+      {"display", "takes 1 argument"},
+      {"noise-threshold 2", "from 0 (off) to 1"},
+      {"noise-threshold -0.1", "from 0 (off) to 1"},
+      {"noise-threshold x", "is not a number"},
+      {"noise-threshold 0.1 2.5", "the minimum spp must be an integer"},
   };
   for (const Case& c : cases) {
     auto r = parse_script(std::string("wait-frames 1  # fine\n") + c.line + "\n", "s.txt");
@@ -337,7 +414,7 @@ TEST(Script, EveryCommandOfTheTableParsesItsWellFormedUse) {
       "orbit 10 -5\npan 0.1 0\ndolly 0.8\npick 3 4\nset-material glass ior=1.3 emission=0,0,0\nlight 0\n"
       "light-size 0.5 0.2\nlight-scale 1.1\nlight-position 0 1.9 0\nlight-intensity 2\nexposure -1\ntonemap reinhard\n"
       "load x.obj\nwait-frames 2\nwait-ms 10\nstop-at-spp 8\nscreenshot a.png\nsave a.pfm\nsave-scene a.json\nexpect-restart\n"
-      "expect-no-restart\nquit\n";
+      "expect-no-restart\ndisplay error\nnoise-threshold 0.05 16\nquit\n";
   auto r = parse_script(good, "s.txt");
   ASSERT_TRUE(r.ok()) << r.error();
   EXPECT_EQ(r->size(), script_commands().size());
