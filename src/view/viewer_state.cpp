@@ -235,13 +235,12 @@ void ViewerState::note_frame() {
   if (!frame.preview && frame.seconds > 0 && std::isfinite(frame.est_rel_mse) && frame.est_rel_mse > 0)
     error_history.emplace_back(frame.seconds, frame.est_rel_mse);
   if (error_history.size() > 4096) error_history.erase(error_history.begin(), error_history.begin() + 2048);
+  bool comparable = reference && !frame.preview && frame.image.width == reference->width &&
+                    frame.image.height == reference->height;
+  frame_rel_mse = comparable ? compare_images(frame.image, *reference).rel_mse : std::numeric_limits<double>::quiet_NaN();
 }
 
-double ViewerState::true_rel_mse() const {
-  if (!reference || frame.preview || frame.image.width != reference->width || frame.image.height != reference->height)
-    return std::numeric_limits<double>::quiet_NaN();
-  return compare_images(frame.image, *reference).rel_mse;
-}
+
 
 std::string ViewerState::stats_json() const {
   double elapsed = std::chrono::duration<double>(Clock::now() - start_time).count();

@@ -4,6 +4,7 @@
 #include <atomic>
 #include <chrono>
 #include <future>
+#include <limits>
 #include <map>
 #include <memory>
 #include <string>
@@ -79,8 +80,10 @@ struct ViewerState {
   void init(Scene scene, const RenderParams& params, const DisplaySettings& display, int threads);
   /// Takes a newly fetched frame: records its error history (reset with each epoch).
   void note_frame();
-  /// True relMSE of the current frame against the reference (NaN without one or when the sizes differ).
-  double true_rel_mse() const;
+  /// True relMSE of the current frame against the reference (NaN without one or when the sizes differ); computed
+  /// once per fetched frame by note_frame, not per UI frame.
+  double true_rel_mse() const { return frame_rel_mse; }
+  double frame_rel_mse = std::numeric_limits<double>::quiet_NaN();
 
   /// Applies an edit: the one place that chooses and performs the restart tier. Returns the tier performed (none
   /// when the edit was rejected or changed nothing).

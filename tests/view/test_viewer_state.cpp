@@ -243,6 +243,34 @@ TEST(Tiers, EveryRestartShowsAReducedResolutionPreviewFirst) {
   }
 }
 
+TEST(Tiers, LoweringTheThresholdResumesStoppedPixelsInTheSameEpoch) {
+  ViewerState st;
+  st.init(builtin("cornell"), small_params(), {}, 1);
+  const uint64_t epoch0 = st.session->epoch();
+  AdaptiveParams a;
+  a.noise_threshold = 1.0;  // loose: every pixel stops soon after its minimum
+  a.min_spp = 2;
+  ASSERT_EQ(st.apply(AdaptiveEdit{a}), Tier::sampling);
+  // Wait (deadline 60 s: a hang, not slowness, fails) until adaptive sampling has stopped every pixel.
+  bool converged = false;
+  for (int i = 0; i < 6000 && !converged; ++i) {
+    if (st.session->fetch(st.frame)) converged = st.frame.converged;
+    if (!converged) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  ASSERT_TRUE(converged);
+  const int spp_stopped = st.frame.spp;
+  a.noise_threshold = 0.001;  // strict: the stopped pixels resume
+  ASSERT_EQ(st.apply(AdaptiveEdit{a}), Tier::sampling);
+  bool resumed = false;
+  for (int i = 0; i < 6000 && !resumed; ++i) {
+    if (st.session->fetch(st.frame)) resumed = st.frame.spp > spp_stopped && !st.frame.converged;
+    if (!resumed) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  EXPECT_TRUE(resumed) << "spp stayed at " << spp_stopped;
+  EXPECT_EQ(st.frame.epoch, epoch0) << "no restart";
+  EXPECT_EQ(st.session->epoch(), epoch0);
+}
+
 TEST(Tiers, TheOldSceneStaysLiveWhileALoadRuns) {
   TempDir dir;
   std::string obj = write_two_triangle_light_obj(dir.path);
