@@ -48,6 +48,25 @@ struct DisplayModeEdit {
 struct AdaptiveEdit {
   AdaptiveParams adaptive;
 };
+/// The second configuration of an equal-time A/B compare: what differs from A (the current parameters).
+struct CompareConfig {
+  IntegratorKind integrator = IntegratorKind::mis;
+  LightSampling light_sampling = LightSampling::solid_angle;
+  SamplerKind sampler = SamplerKind::sobol;
+  AdaptiveParams adaptive;
+  bool operator==(const CompareConfig& o) const {
+    return integrator == o.integrator && light_sampling == o.light_sampling && sampler == o.sampler &&
+           adaptive.noise_threshold == o.adaptive.noise_threshold && adaptive.min_spp == o.adaptive.min_spp;
+  }
+};
+/// Starts (restarting both sides) or, with no config, ends an A/B compare.
+struct CompareEdit {
+  std::optional<CompareConfig> b;
+};
+/// Where A ends and B begins, as a fraction of the image width.
+struct DividerEdit {
+  float x = 0.5f;
+};
 /// Replaces material `index`; apply normalizes it (albedo in [0,1], glass albedo 1, emission >= 0, ior >= 1).
 struct MaterialEdit {
   int index = -1;
@@ -74,8 +93,8 @@ struct SceneEdit {
 /// Restart accumulation as is (the Render panel's button).
 struct RestartEdit {};
 
-using Edit = std::variant<CameraEdit, RenderParamsEdit, DisplayEdit, DisplayModeEdit, AdaptiveEdit, MaterialEdit,
-                          LightShapeEdit, LightEmissionEdit, SceneEdit, RestartEdit>;
+using Edit = std::variant<CameraEdit, RenderParamsEdit, DisplayEdit, DisplayModeEdit, AdaptiveEdit, CompareEdit,
+                          DividerEdit, MaterialEdit, LightShapeEdit, LightEmissionEdit, SceneEdit, RestartEdit>;
 
 /// The tier an edit of this kind needs (before looking at the state: apply may still return none for an edit that
 /// changes nothing or is invalid).
@@ -86,6 +105,8 @@ inline Tier tier_of(const Edit& e) {
     Tier operator()(const DisplayEdit&) const { return Tier::display; }
     Tier operator()(const DisplayModeEdit&) const { return Tier::display; }
     Tier operator()(const AdaptiveEdit&) const { return Tier::sampling; }
+    Tier operator()(const CompareEdit&) const { return Tier::camera; }
+    Tier operator()(const DividerEdit&) const { return Tier::display; }
     Tier operator()(const MaterialEdit&) const { return Tier::material; }
     Tier operator()(const LightShapeEdit&) const { return Tier::light_refit; }
     Tier operator()(const LightEmissionEdit&) const { return Tier::material; }

@@ -56,8 +56,8 @@ void render_panel(ViewerState& st, PanelState& ps) {
   ImGui::Checkbox("lock", &ps.lock_size);
   if (ImGui::IsItemHovered()) ImGui::SetTooltip("unlocked: the render follows the window");
   st.apply(RenderParamsEdit{p});  // none when nothing changed
-  bool paused = st.session->paused();
-  if (ImGui::Checkbox("pause", &paused)) st.session->set_paused(paused);
+  bool paused = st.paused;
+  if (ImGui::Checkbox("pause", &paused)) st.set_paused(paused);
   ImGui::SameLine();
   if (ImGui::Button("restart")) st.apply(RestartEdit{});
   AdaptiveParams a = st.adaptive;
@@ -80,6 +80,7 @@ void render_panel(ViewerState& st, PanelState& ps) {
   if (ImGui::InputInt("stop at spp", &ps.target_spp)) {
     ps.target_spp = std::max(0, ps.target_spp);
     st.session->set_target_spp(ps.target_spp);
+    if (st.session_b) st.session_b->set_target_spp(ps.target_spp);
   }
   if (ImGui::IsItemHovered()) ImGui::SetTooltip("0: never stop");
   input_text("file", ps.save_path);
@@ -250,6 +251,61 @@ void convergence_stats(const ViewerState& st) {
   }
 }
 
+/// Equal-time A/B compare: B's settings (a CompareEdit: both restart) and each side's figures.
+void compare_panel(ViewerState& st) {
+  bool on = st.compare.has_value();
+  CompareConfig c = st.compare.value_or(CompareConfig{st.params.integrator, st.params.light_sampling, st.params.sampler, {}});
+  bool changed = ImGui::Checkbox("compare A | B", &on);
+  if (on) {
+    changed |= name_combo<IntegratorKind>("B integrator", kIntegratorNames, c.integrator);
+    changed |= name_combo<LightSampling>("B light sampling", kLightSamplingNames, c.light_sampling);
+    changed |= name_combo<SamplerKind>("B sampler", kSamplerNames, c.sampler);
+    bool adaptive = c.adaptive.enabled();
+    float t = float(adaptive ? c.adaptive.noise_threshold : 0.01);
+    changed |= ImGui::Checkbox("B adaptive", &adaptive);
+    ImGui::SameLine();
+    changed |= ImGui::SliderFloat("##Bthreshold", &t, 0.001f, 1.0f, "%.4f", ImGuiSliderFlags_Logarithmic);
+    c.adaptive.noise_threshold = adaptive ? double(t) : 0.0;
+    float d = st.divider;
+    if (ImGui::SliderFloat("divider", &d, 0.0f, 1.0f)) st.apply(DividerEdit{d});
+  }
+  if (changed) st.apply(CompareEdit{on ? std::optional<CompareConfig>(c) : std::nullopt});
+}
+
+void compare_stats(const ViewerState& st) {
+  if (!st.compare) return;
+  const SessionFrame* f[2] = {&st.frame, &st.frame_b};
+  const double rel[2] = {st.true_rel_mse(), st.frame_b_rel_mse};
+  double work[2] = {0, 0};  // relMSE x seconds: lower is more efficient
+  if (ImGui::BeginTable("ab", 3, ImGuiTableFlags_Borders)) {
+    ImGui::TableSetupColumn("");
+    ImGui::TableSetupColumn("A");
+    ImGui::TableSetupColumn("B");
+    ImGui::TableHeadersRow();
+    auto row = [&](const char* name, auto&& cell) {
+      ImGui::TableNextRow();
+      ImGui::TableNextColumn();
+      ImGui::TextUnformatted(name);
+      for (int k = 0; k < 2; ++k) {
+        ImGui::TableNextColumn();
+        cell(k);
+      }
+    };
+    row("spp", [&](int k) { ImGui::Text("%d", f[k]->spp); });
+    row("seconds", [&](int k) { ImGui::Text("%.2f", f[k]->seconds); });
+    row("est relMSE", [&](int k) {
+      bool ok = !f[k]->preview && std::isfinite(f[k]->est_rel_mse) && f[k]->est_rel_mse > 0;
+      if (ok) work[k] = f[k]->est_rel_mse * f[k]->seconds;
+      ok ? ImGui::Text("%.3g", f[k]->est_rel_mse) : ImGui::TextDisabled("-");
+    });
+    if (st.reference)
+      row("true relMSE", [&](int k) { std::isfinite(rel[k]) ? ImGui::Text("%.3g", rel[k]) : ImGui::TextDisabled("-"); });
+    ImGui::EndTable();
+  }
+  // Efficiency = 1 / (relMSE x time) (Veach's figure of merit); B/A > 1: B converges faster in equal time.
+  if (work[0] > 0 && work[1] > 0) ImGui::Text("efficiency B/A %.2f", work[0] / work[1]);
+}
+
 void stats_panel(const ViewerState& st) {
   const SessionFrame& f = st.frame;
   double sps = f.seconds > 0 ? f.spp / f.seconds : 0.0;
@@ -258,6 +314,7 @@ void stats_panel(const ViewerState& st) {
   ImGui::Text("spp %d   %.1f spp/s   %.2f Mrays/s", f.spp, sps, mrays);
   ImGui::Text("elapsed %.1f s   threads %d", f.seconds, st.session->thread_count());
   convergence_stats(st);
+  compare_stats(st);
   ImGui::Text("non-finite samples %llu", (unsigned long long)f.counters.nonfinite_samples);
   std::vector<double> lat = st.restart_latency_ms;
   std::sort(lat.begin(), lat.end());
@@ -284,6 +341,7 @@ void draw_panels(ViewerState& st, PanelState& ps, float width, float height) {
   if (ImGui::CollapsingHeader("Light", ImGuiTreeNodeFlags_DefaultOpen)) light_panel(st);
   if (ImGui::CollapsingHeader("Scene", st.loading.valid() ? ImGuiTreeNodeFlags_DefaultOpen : 0)) scene_panel(st, ps);
   if (ImGui::CollapsingHeader("Display", ImGuiTreeNodeFlags_DefaultOpen)) display_panel(st);
+  if (ImGui::CollapsingHeader("Compare", st.compare ? ImGuiTreeNodeFlags_DefaultOpen : 0)) compare_panel(st);
   if (ImGui::CollapsingHeader("Stats", ImGuiTreeNodeFlags_DefaultOpen)) stats_panel(st);
   ImGui::PopItemWidth();
   ImGui::End();

@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <fstream>
 #include <sstream>
+#include <variant>
 
 #include "render/names.h"
 #include "view/camera_control.h"
@@ -86,6 +87,44 @@ std::string check_noise_threshold(const std::vector<std::string>& a) {
       return "'" + a[1] + "': the minimum spp must be an integer from 0 (automatic) to 16777216";
   }
   return {};
+}
+
+/// `compare off` or `compare key=value ...` over A's settings: integrator=, light-sampling=, sampler=,
+/// adaptive=T|off. Returns the config, or the reason it is malformed.
+std::variant<std::optional<CompareConfig>, std::string> parse_compare(const std::vector<std::string>& a,
+                                                                      const RenderParams& base) {
+  if (a.size() == 1 && a[0] == "off") return std::optional<CompareConfig>{};
+  CompareConfig c{base.integrator, base.light_sampling, base.sampler, {}};
+  for (const std::string& kv : a) {
+    size_t eq = kv.find('=');
+    std::string key = kv.substr(0, eq), value = eq == std::string::npos ? "" : kv.substr(eq + 1);
+    if (key == "integrator" && value_of<IntegratorKind>(kIntegratorNames, value))
+      c.integrator = *value_of<IntegratorKind>(kIntegratorNames, value);
+    else if (key == "light-sampling" && value_of<LightSampling>(kLightSamplingNames, value))
+      c.light_sampling = *value_of<LightSampling>(kLightSamplingNames, value);
+    else if (key == "sampler" && value_of<SamplerKind>(kSamplerNames, value))
+      c.sampler = *value_of<SamplerKind>(kSamplerNames, value);
+    else if (key == "adaptive" && value == "off")
+      c.adaptive = {};
+    else if (key == "adaptive" && is_number(value) && std::strtod(value.c_str(), nullptr) > 0 &&
+             std::strtod(value.c_str(), nullptr) <= 1)
+      c.adaptive.noise_threshold = std::strtod(value.c_str(), nullptr);
+    else
+      return "'" + kv + "': expected off, integrator=" + names_list<IntegratorKind>(kIntegratorNames) +
+             ", light-sampling=" + names_list<LightSampling>(kLightSamplingNames) + ", sampler=" +
+             names_list<SamplerKind>(kSamplerNames) + " or adaptive=T|off (0 < T <= 1)";
+  }
+  return std::optional<CompareConfig>{c};
+}
+
+std::string check_compare(const std::vector<std::string>& a) {
+  auto r = parse_compare(a, RenderParams{});
+  return std::holds_alternative<std::string>(r) ? std::get<std::string>(r) : "";
+}
+
+std::string check_fraction(const std::vector<std::string>& a) {
+  double v = std::strtod(a[0].c_str(), nullptr);
+  return v >= 0.0 && v <= 1.0 ? "" : "'" + a[0] + "' is not a fraction from 0 to 1";
 }
 
 /// The camera commands: a copy of the camera moved, applied as a CameraEdit.
@@ -209,6 +248,16 @@ const ScriptCommandSpec kCommands[] = {
        st.apply(AdaptiveEdit{a});  // no restart: stopped pixels resume when the threshold drops
        return ScriptStep::done;
      }},
+    {"compare", "off | [integrator=I] [light-sampling=L] [sampler=S] [adaptive=T|off]", 1, 4, false, check_compare,
+     [](ScriptRun&, ViewerState& st, const ScriptCommand& c) {
+       st.apply(CompareEdit{std::get<std::optional<CompareConfig>>(parse_compare(c.args, st.params))});
+       return ScriptStep::done;
+     }},
+    {"divider", "F", 1, 1, true, check_fraction,
+     [](ScriptRun&, ViewerState& st, const ScriptCommand& c) {
+       st.apply(DividerEdit{num(c, 0)});
+       return ScriptStep::done;
+     }},
     {"load", "PATH", 1, 1, false, check_none,
      [](ScriptRun&, ViewerState& st, const ScriptCommand& c) {
        st.start_load(c.args[0]);
@@ -218,6 +267,8 @@ const ScriptCommandSpec kCommands[] = {
      [](ScriptRun&, ViewerState& st, const ScriptCommand& c) {
        bool ready = !st.loading.valid() && st.session && st.frame.epoch == st.session->epoch() &&
                     st.frame.frames >= int(num(c, 0));
+       if (st.compare && st.session_b)  // in a compare, both sides
+         ready = ready && st.frame_b.epoch == st.session_b->epoch() && st.frame_b.frames >= int(num(c, 0));
        return ready ? ScriptStep::done : ScriptStep::wait;
      }},
     {"wait-ms", "N", 1, 1, true, check_count,
@@ -239,6 +290,7 @@ const ScriptCommandSpec kCommands[] = {
     {"stop-at-spp", "N", 1, 1, true, check_count,
      [](ScriptRun&, ViewerState& st, const ScriptCommand& c) {
        st.session->set_target_spp(int(num(c, 0)));  // as the Render panel's "stop at spp"; 0: never stop
+       if (st.session_b) st.session_b->set_target_spp(int(num(c, 0)));
        return ScriptStep::done;
      }},
     {"save", "PATH", 1, 1, false, check_none,

@@ -415,6 +415,54 @@ TEST(Viewer, ReferenceErrorModeAndTrueRelMse) {
   EXPECT_NE(b.err.find("script.txt:2: display reference-error: needs --reference"), std::string::npos) << b.err;
 }
 
+/// Mean luminance and its variance over columns [x0, x1) of a screenshot's rows [y0, y1).
+std::pair<double, double> region_stats(const Png& p, int x0, int x1, int y0, int y1) {
+  double s = 0, s2 = 0;
+  int n = 0;
+  for (int y = y0; y < y1; ++y)
+    for (int x = x0; x < x1; ++x, ++n) {
+      const unsigned char* q = &p.rgb[(size_t(y) * p.w + x) * 3];
+      double l = 0.2126 * q[0] + 0.7152 * q[1] + 0.0722 * q[2];
+      s += l;
+      s2 += l * l;
+    }
+  return {s / n, s2 / n - (s / n) * (s / n)};
+}
+
+TEST(Viewer, EqualTimeCompareShowsBothSidesAndTheirStats) {
+  REQUIRE_DISPLAY();
+  TempDir dir;
+  std::string script = write_script(
+      dir, "wait-frames 1\ncompare integrator=nee sampler=independent\nexpect-restart\nwait-frames 4\n"
+           "divider 0.5\nexpect-no-restart\nwait-ms 200\nscreenshot " + dir / "ab.png" +
+           "\ncompare integrator=bsdf\nexpect-restart\nwait-frames 2\nquit\n");
+  auto r = run_window({"--size", "128x96", "--max-depth", "4", "--script", script, "--stats-json", dir / "stats.json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  Png ab(dir / "ab.png");
+  ASSERT_TRUE(ab.ok());
+  // The 128 x 96 render is letterboxed centred in the image area right of the 360-pixel panel column: both halves
+  // of it (clear of the divider line) must show the scene (lit, with structure).
+  const int area_w = ab.w - kPanelPx, x0 = kPanelPx + (area_w - 128) / 2, y0 = (ab.h - 96) / 2;
+  auto left = region_stats(ab, x0 + 4, x0 + 56, y0 + 4, y0 + 92);
+  auto right = region_stats(ab, x0 + 72, x0 + 124, y0 + 4, y0 + 92);
+  EXPECT_GT(left.first, 15.0);
+  EXPECT_GT(right.first, 15.0);
+  EXPECT_GT(left.second, 20.0);
+  EXPECT_GT(right.second, 20.0);
+  auto j = nlohmann::json::parse(read_file(dir / "stats.json"));
+  ASSERT_TRUE(j.contains("compare")) << j.dump();
+  for (const char* side : {"a", "b"}) {
+    EXPECT_GT(j["compare"][side]["spp"].get<int>(), 0) << side;
+    EXPECT_GT(j["compare"][side]["seconds"].get<double>(), 0.0) << side;
+    EXPECT_TRUE(j["compare"][side].contains("rel_mse")) << side;
+  }
+  EXPECT_EQ(j["compare"]["b"]["integrator"], "bsdf");
+  std::string bad = write_script(dir, "compare integrator=path\n");
+  auto b = run_window({"--size", "64x48", "--script", bad});
+  EXPECT_EQ(b.exit_code, 2);
+  EXPECT_NE(b.err.find("script.txt:1:"), std::string::npos) << b.err;
+}
+
 TEST(Viewer, AdaptiveThresholdChangesNeverRestart) {
   REQUIRE_DISPLAY();
   TempDir dir;

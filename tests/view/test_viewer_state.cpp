@@ -10,6 +10,8 @@
 #include <fstream>
 #include <thread>
 
+#include <nlohmann/json.hpp>
+
 #include "scene/builtin_assets.h"
 #include "scene/load.h"
 #include "view/display_mode.h"
@@ -146,6 +148,45 @@ TEST(Tiers, TierOfAgreesWithApplyForEveryKind) {
   EXPECT_EQ(tier_of(SceneEdit{}), Tier::rebuild);
   EXPECT_EQ(tier_of(DisplayModeEdit{}), Tier::display);
   EXPECT_EQ(tier_of(AdaptiveEdit{}), Tier::sampling);
+  EXPECT_EQ(tier_of(CompareEdit{}), Tier::camera);
+  EXPECT_EQ(tier_of(DividerEdit{}), Tier::display);
+}
+
+TEST(Tiers, CompareRestartsBothSidesAndEveryEditRestartsBoth) {
+  ViewerState st;
+  st.init(builtin("cornell"), small_params(), {}, 1);
+  CompareConfig b{IntegratorKind::nee, LightSampling::area, SamplerKind::independent, {}};
+  const int restarts0 = st.restarts;
+  EXPECT_EQ(st.apply(CompareEdit{b}), Tier::camera);
+  ASSERT_TRUE(st.session_b);
+  EXPECT_EQ(st.restarts, restarts0 + 1);
+  EXPECT_EQ(st.session_b->epoch(), 1u);
+  EXPECT_EQ(st.params_b().integrator, IntegratorKind::nee);
+  EXPECT_EQ(st.params_b().sampler, SamplerKind::independent);
+  EXPECT_EQ(st.params_b().width, st.params.width) << "same camera and size";
+  EXPECT_EQ(st.apply(CompareEdit{b}), Tier::none) << "unchanged";
+  EXPECT_EQ(st.apply(DividerEdit{0.25f}), Tier::display);
+  EXPECT_EQ(st.divider, 0.25f);
+  EXPECT_EQ(st.session_b->epoch(), 1u) << "the divider never restarts";
+  Camera cam = *st.scene.camera;
+  cam.eye.x += 0.2f;
+  EXPECT_EQ(st.apply(CameraEdit{cam}), Tier::camera);
+  EXPECT_EQ(st.session_b->epoch(), 2u) << "any edit restarts both sides";
+  Material m = st.scene.materials[0];
+  m.albedo = vec3(0.3f);
+  EXPECT_EQ(st.apply(MaterialEdit{0, m}), Tier::material);
+  EXPECT_EQ(st.session_b->epoch(), 3u);
+  auto j = nlohmann::json::parse(st.stats_json());
+  ASSERT_TRUE(j.contains("compare"));
+  for (const char* side : {"a", "b"})
+    for (const char* key : {"spp", "seconds", "est_rel_mse", "rel_mse"}) EXPECT_TRUE(j["compare"][side].contains(key)) << key;
+  EXPECT_EQ(j["compare"]["b"]["integrator"], "nee");
+  const uint64_t a_epoch = st.session->epoch();
+  EXPECT_EQ(st.apply(CompareEdit{}), Tier::display) << "compare off keeps A's accumulation";
+  EXPECT_EQ(st.session->epoch(), a_epoch);
+  EXPECT_TRUE(st.session_b->paused());
+  EXPECT_FALSE(nlohmann::json::parse(st.stats_json()).contains("compare"));
+  EXPECT_EQ(st.apply(CompareEdit{}), Tier::none);
 }
 
 TEST(Tiers, DisplayModesAndAdaptiveSamplingNeverRestart) {
@@ -423,6 +464,14 @@ TEST(Script, EveryMalformedFormIsRejectedWithItsLine) {
       {"tonemap Reinhard", "unknown tonemap"},
       {"exposure", "takes 1 argument"},
       {"display heat", "unknown display mode"},
+      {"compare", "takes 1 to 4 argument"},
+      {"compare integrator=path", "expected off, integrator="},
+      {"compare sampler", "expected off, integrator="},
+      {"compare adaptive=0", "expected off, integrator="},
+      {"compare adaptive=2", "expected off, integrator="},
+      {"compare off integrator=nee", "expected off, integrator="},
+      {"divider 1.5", "not a fraction from 0 to 1"},
+      {"divider x", "is not a number"},
       {"display", "takes 1 argument"},
       {"noise-threshold 2", "from 0 (off) to 1"},
       {"noise-threshold -0.1", "from 0 (off) to 1"},
@@ -442,7 +491,8 @@ TEST(Script, EveryCommandOfTheTableParsesItsWellFormedUse) {
       "orbit 10 -5\npan 0.1 0\ndolly 0.8\npick 3 4\nset-material glass ior=1.3 emission=0,0,0\nlight 0\n"
       "light-size 0.5 0.2\nlight-scale 1.1\nlight-position 0 1.9 0\nlight-intensity 2\nexposure -1\ntonemap reinhard\n"
       "load x.obj\nwait-frames 2\nwait-ms 10\nstop-at-spp 8\nscreenshot a.png\nsave a.pfm\nsave-scene a.json\nexpect-restart\n"
-      "expect-no-restart\ndisplay error\nnoise-threshold 0.05 16\nquit\n";
+      "expect-no-restart\ndisplay error\nnoise-threshold 0.05 16\n"
+      "compare integrator=nee sampler=independent light-sampling=area adaptive=0.1\ndivider 0.3\nquit\n";
   auto r = parse_script(good, "s.txt");
   ASSERT_TRUE(r.ok()) << r.error();
   EXPECT_EQ(r->size(), script_commands().size());
