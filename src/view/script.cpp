@@ -235,10 +235,20 @@ const ScriptCommandSpec kCommands[] = {
      }},
     {"display", "image|error|samples|reference-error", 1, 1, false, check_display_mode,
      [](ScriptRun& r, ViewerState& st, const ScriptCommand& c) {
-       if (st.apply(DisplayModeEdit{*value_of<DisplayMode>(kDisplayModeNames, c.args[0])}) == Tier::none &&
-           c.args[0] == "reference-error")
+       const DisplayMode mode = *value_of<DisplayMode>(kDisplayModeNames, c.args[0]);
+       if (st.display_mode != mode && st.apply(DisplayModeEdit{mode}) == Tier::none) {
          fail(r, c, "display reference-error: needs --reference");
-       return ScriptStep::done;
+         return ScriptStep::done;
+       }
+       // Done once the mode can be shown: a full frame of the current epoch, with its map for error / samples
+       // (republished at once by the session), so a following screenshot shows the mode.
+       const SessionFrame& f = st.frame;
+       bool ready = mode == DisplayMode::image ||
+                    (st.session && f.epoch == st.session->epoch() && !f.preview && f.frames > 0 &&
+                     (mode == DisplayMode::error     ? f.rel_error.width == f.width
+                      : mode == DisplayMode::samples ? f.spp_map.width == f.width
+                                                     : true));
+       return ready ? ScriptStep::done : ScriptStep::wait;
      }},
     {"noise-threshold", "T [MIN_SPP]", 1, 2, true, check_noise_threshold,
      [](ScriptRun&, ViewerState& st, const ScriptCommand& c) {
@@ -374,7 +384,8 @@ void ScriptRun::step(ViewerState& st) {
   while (!done()) {
     const ScriptCommand& c = commands[next];
     const ScriptCommandSpec& spec = *find_command(c.name);
-    if (!is_wait(c.name)) {
+    if (!is_wait(c.name) && started != next) {
+      started = next;
       epoch_before_previous = epoch_before_current;
       epoch_before_current = st.session ? st.session->epoch() : 0;
     }

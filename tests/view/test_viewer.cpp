@@ -370,9 +370,9 @@ TEST(Viewer, DisplayModesChangeThePixelsWithoutRestarting) {
   TempDir dir;
   std::string script = write_script(
       dir, "stop-at-spp 24\nwait-frames 6\nscreenshot " + dir / "image.png" +
-               "\ndisplay error\nexpect-no-restart\nwait-ms 700\nscreenshot " + dir / "error.png" +
-               "\ndisplay samples\nexpect-no-restart\nwait-ms 700\nscreenshot " + dir / "samples.png" +
-               "\ndisplay image\nexpect-no-restart\nwait-ms 300\nscreenshot " + dir / "image2.png" + "\nquit\n");
+               "\ndisplay error\nexpect-no-restart\nscreenshot " + dir / "error.png" +
+               "\ndisplay samples\nexpect-no-restart\nscreenshot " + dir / "samples.png" +
+               "\ndisplay image\nexpect-no-restart\nscreenshot " + dir / "image2.png" + "\nquit\n");
   auto r = run_window({"--size", "96x64", "--max-depth", "4", "--script", script, "--stats-json", dir / "stats.json"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   Png image(dir / "image.png"), error(dir / "error.png"), samples(dir / "samples.png"), image2(dir / "image2.png");
@@ -396,7 +396,7 @@ TEST(Viewer, ReferenceErrorModeAndTrueRelMse) {
   auto h = test::run_ptview({"--size", "64x48", "--max-depth", "4", "--frames", "64", "--out", dir / "ref.pfm"}, 120);
   ASSERT_EQ(h.exit_code, 0) << h.err;
   std::string script = write_script(dir, "wait-frames 2\nscreenshot " + dir / "image.png" +
-                                             "\ndisplay reference-error\nexpect-no-restart\nwait-ms 300\nscreenshot " +
+                                             "\ndisplay reference-error\nexpect-no-restart\nscreenshot " +
                                              dir / "referr.png" + "\nquit\n");
   auto r = run_window({"--max-depth", "4", "--reference", dir / "ref.pfm", "--script", script, "--stats-json",
                        dir / "stats.json"});
