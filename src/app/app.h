@@ -2,6 +2,7 @@
 /// Entry points of the program: parse, load, then run headless or open the viewer.
 #include "app/options.h"
 #include "dist/cluster.h"
+#include "render/image_error.h"
 #include "render/render_scene.h"
 #include "render/stats.h"
 #include "render/stats_json.h"
@@ -15,12 +16,5 @@ int run_app(int argc, const char* const* argv);
 /// With several ranks (src/dist), each renders its share of the frames and rank 0 writes the outputs.
 /// `load_ms`: how long reading and parsing the scene took (the caller loaded it), reported as the stats' load_ms.
 int run_headless(const AppOptions& options, const Scene& scene, Cluster& cluster, double load_ms = 0.0);
-
-/// Root-mean-square error and relative MSE (mean of (x - r)^2 / (r^2 + 0.01) over pixels and channels).
-struct ImageError {
-  double rmse = 0.0;
-  double rel_mse = 0.0;
-};
-ImageError compare_images(const Image& image, const Image& reference);
 
 }  // namespace pt

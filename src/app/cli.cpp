@@ -65,7 +65,7 @@ ParseOutcome parse_command_line(int argc, const char* const* argv) {
   std::string sampler = "sobol";
   app.add_option("--sampler", sampler, "sobol (default: Owen-scrambled Sobol) or independent");
   app.add_option("--stats-json", o.stats_json, "Write run statistics as JSON");
-  app.add_option("--reference", o.reference, "Reference image (.pfm/.exr) for --error-csv");
+  app.add_option("--reference", o.reference, "Reference image (.pfm/.exr) for --error-csv; viewer: true relMSE and the reference-error display");
   app.add_option("--error-csv", o.error_csv, "After every frame append frame,spp,seconds,rmse,rel_mse,est_rel_mse");
   app.add_option("--error-map", o.error_map, "Headless: write the per-pixel relative standard error (.pfm/.exr)");
   app.add_option("--spp-map", o.spp_map, "Headless: write the samples each pixel received (.pfm/.exr)");
@@ -188,6 +188,8 @@ ParseOutcome parse_command_line(int argc, const char* const* argv) {
   }
   o.viewer.stats_json = o.stats_json;
   o.viewer.lock_size = size_opt->count() > 0;
+  o.viewer.reference = o.reference;
+  o.viewer.adaptive = o.adaptive;
   if (o.out_given) o.viewer.out = o.out;
   result.options = std::move(o);
   return result;

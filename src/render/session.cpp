@@ -48,6 +48,15 @@ void RenderSession::set_adaptive(const AdaptiveParams& adaptive) {
   wake_.notify_all();
 }
 
+void RenderSession::set_publish_maps(bool on) {
+  {
+    std::lock_guard lock(mutex_);
+    publish_maps_ = on;
+    republish_ = republish_ || on;
+  }
+  wake_.notify_all();
+}
+
 void RenderSession::set_target_spp(int spp) {
   target_spp_ = spp;
   wake_.notify_all();
@@ -55,11 +64,13 @@ void RenderSession::set_target_spp(int spp) {
 
 bool RenderSession::fetch(SessionFrame& out) {
   std::lock_guard lock(publish_mutex_);
-  if (published_.epoch == out.epoch && published_.frames == out.frames && published_.preview == out.preview)
+  if (published_.epoch == out.epoch && published_.frames == out.frames && published_.preview == out.preview &&
+      published_.revision == out.revision)
     return false;
   if (published_.epoch < out.epoch) return false;
   out.epoch = published_.epoch;
   out.frames = published_.frames;
+  out.revision = published_.revision;
   out.preview = published_.preview;
   out.spp = published_.spp;
   out.width = published_.width;
@@ -95,6 +106,7 @@ void RenderSession::drive(std::stop_token stop) {
     published_.epoch = current;
     published_.preview = preview;
     published_.frames = frames;
+    ++published_.revision;
     published_.spp = preview ? 0 : film.spp();
     published_.width = w;
     published_.height = h;
@@ -115,7 +127,7 @@ void RenderSession::drive(std::stop_token stop) {
       wake_.wait(lock, stop, [&] {
         bool target_reached = target_spp_ > 0 && film.spp() >= target_spp_ && epoch_ == current;
         // A new epoch's preview is rendered even when paused, so an edit always shows at once.
-        return scene_ && (epoch_ != current || adaptive_changed_ || need_preview ||
+        return scene_ && (epoch_ != current || adaptive_changed_ || republish_ || need_preview ||
                           (!paused_ && !target_reached && !converged_));
       });
       if (stop.stop_requested()) break;
@@ -138,7 +150,16 @@ void RenderSession::drive(std::stop_token stop) {
         film.set_adaptive(adaptive_);
         adaptive_changed_ = false;
         converged_ = film.converged();
+        republish_ = republish_ || frames > 0;  // the stopped fraction changed, even if nothing renders now
         continue;  // re-evaluate: a converged film may have resumed, or a paused one stays paused
+      }
+      if (republish_) {
+        republish_ = false;
+        if (frames > 0 && !need_preview) {
+          lock.unlock();
+          publish(film.film().resolve(), false, params.width, params.height);
+          continue;
+        }
       }
       cancel_ = false;
     }

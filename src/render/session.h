@@ -20,6 +20,7 @@ struct SessionFrame {
   uint64_t epoch = 0;
   bool preview = false;     ///< the quick low-resolution first look at a new epoch (its samples are not kept)
   int frames = 0;           ///< full-resolution frames completed in this epoch
+  uint64_t revision = 0;    ///< bumped by every publication (a republished frame has the same epoch and frames)
   int spp = 0;
   int width = 0, height = 0;
   double seconds = 0.0;     ///< render time in this epoch
@@ -52,7 +53,9 @@ class RenderSession {
   /// (lowering the threshold resumes stopped pixels; a converged session starts rendering again).
   void set_adaptive(const AdaptiveParams& adaptive);
   /// Also publish the per-pixel error and spp maps with every frame (costs a pass over the film).
-  void set_publish_maps(bool on) { publish_maps_ = on; }
+  /// Turning it on republishes the current frame with its maps at once, even when rendering has stopped (paused,
+  /// target spp reached, converged), so a display mode that shows them never waits for a new frame.
+  void set_publish_maps(bool on);
   /// Every epoch first renders and publishes one frame at 1/divisor resolution, so an edit shows within a few
   /// milliseconds even when a full frame takes much longer (1: off).
   void set_preview_divisor(int divisor) { preview_div_ = std::max(1, divisor); }
@@ -79,6 +82,7 @@ class RenderSession {
   std::atomic<bool> converged_{false};  ///< of the current epoch, written by the driver
   AdaptiveParams adaptive_;             ///< guarded by mutex_
   bool adaptive_changed_ = false;       ///< guarded by mutex_
+  bool republish_ = false;              ///< guarded by mutex_: publish the current film again (with maps)
   int thread_count_ = 1;
 
   std::mutex publish_mutex_;

@@ -3,6 +3,8 @@
 #include <imgui.h>
 
 #include <algorithm>
+#include <cfloat>
+#include <cmath>
 
 #include "render/names.h"
 
@@ -54,13 +56,31 @@ void render_panel(ViewerState& st, PanelState& ps) {
   ImGui::Checkbox("lock", &ps.lock_size);
   if (ImGui::IsItemHovered()) ImGui::SetTooltip("unlocked: the render follows the window");
   st.apply(RenderParamsEdit{p});  // none when nothing changed
-  bool paused = st.session->paused();
-  if (ImGui::Checkbox("pause", &paused)) st.session->set_paused(paused);
+  bool paused = st.paused;
+  if (ImGui::Checkbox("pause", &paused)) st.set_paused(paused);
   ImGui::SameLine();
   if (ImGui::Button("restart")) st.apply(RestartEdit{});
+  AdaptiveParams a = st.adaptive;
+  bool adaptive_on = a.enabled();
+  float threshold = float(a.enabled() ? a.noise_threshold : ps.noise_threshold);
+  bool changed = ImGui::Checkbox("adaptive", &adaptive_on);
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("pixels whose relative standard error is below the threshold stop");
+  ImGui::SameLine();
+  ImGui::PushItemWidth(ImGui::GetContentRegionAvail().x * 0.6f);
+  changed |= ImGui::SliderFloat("threshold", &threshold, 0.001f, 1.0f, "%.4f", ImGuiSliderFlags_Logarithmic);
+  ImGui::PopItemWidth();
+  if (changed) {
+    ps.noise_threshold = std::clamp(double(threshold), 1e-4, 1.0);
+    a.noise_threshold = adaptive_on ? ps.noise_threshold : 0.0;
+    st.apply(AdaptiveEdit{a});  // Tier::sampling: no restart
+  }
+  if (a.enabled())
+    ImGui::TextDisabled("stopped %.1f%% of pixels%s", 100.0 * st.frame.converged_fraction,
+                        st.frame.converged ? "  (converged)" : "");
   if (ImGui::InputInt("stop at spp", &ps.target_spp)) {
     ps.target_spp = std::max(0, ps.target_spp);
     st.session->set_target_spp(ps.target_spp);
+    if (st.session_b) st.session_b->set_target_spp(ps.target_spp);
   }
   if (ImGui::IsItemHovered()) ImGui::SetTooltip("0: never stop");
   input_text("file", ps.save_path);
@@ -181,10 +201,109 @@ void scene_panel(ViewerState& st, PanelState& ps) {
 }
 
 void display_panel(ViewerState& st) {
+  DisplayMode mode = st.display_mode;
+  if (name_combo<DisplayMode>("show", kDisplayModeNames, mode) && st.apply(DisplayModeEdit{mode}) == Tier::none)
+    st.status = "reference-error needs --reference";
   DisplaySettings d = st.display;
   bool changed = ImGui::SliderFloat("exposure", &d.exposure, -8.0f, 8.0f, "%.2f stops");
   changed |= name_combo<Tonemap>("tonemap", kTonemapNames, d.tonemap);
   if (changed) st.apply(DisplayEdit{d});
+}
+
+/// Estimated (and, with --reference, true) relMSE, the error-vs-time plot and the ETA to the noise threshold.
+void convergence_stats(const ViewerState& st) {
+  const SessionFrame& f = st.frame;
+  if (f.preview || !std::isfinite(f.est_rel_mse) || f.est_rel_mse <= 0) {
+    ImGui::TextDisabled("est relMSE: needs 2+ spp");
+  } else {
+    ImGui::Text("est relMSE %.3g", f.est_rel_mse);
+  }
+  double rel = st.true_rel_mse();
+  if (std::isfinite(rel)) {
+    ImGui::SameLine();
+    ImGui::Text("  true relMSE %.3g", rel);
+  }
+  const auto& hist = st.error_history;
+  if (hist.size() >= 2) {
+    // log-log: resampled at even steps of log10(time) so early frames are not squeezed into the left edge.
+    constexpr int kPoints = 64;
+    float values[kPoints];
+    double t0 = std::log10(hist.front().first), t1 = std::log10(hist.back().first);
+    size_t j = 0;
+    for (int i = 0; i < kPoints; ++i) {
+      double t = t0 + (t1 - t0) * i / (kPoints - 1);
+      while (j + 1 < hist.size() && std::log10(hist[j + 1].first) <= t) ++j;
+      values[i] = float(std::log10(hist[j].second));
+    }
+    char overlay[64];
+    std::snprintf(overlay, sizeof overlay, "log10 relMSE vs log10 t (%.2g..%.2g s)", hist.front().first,
+                  hist.back().first);
+    ImGui::PlotLines("##error", values, kPoints, 0, overlay, FLT_MAX, FLT_MAX, ImVec2(ImGui::GetContentRegionAvail().x, 70));
+  }
+  if (st.adaptive.enabled() && std::isfinite(f.est_rel_mse) && f.est_rel_mse > 0 && f.seconds > 0) {
+    // relMSE falls as 1/t, and the threshold bounds each pixel's relative standard error, so the image is done
+    // about when its relMSE reaches threshold^2: t_done = t * est / T^2.
+    double target = st.adaptive.noise_threshold * st.adaptive.noise_threshold;
+    double eta = f.seconds * f.est_rel_mse / target - f.seconds;
+    if (f.converged) ImGui::Text("converged to threshold %.3g", st.adaptive.noise_threshold);
+    else if (eta <= 0) ImGui::Text("ETA to threshold: finishing the last pixels");
+    else ImGui::Text("ETA to threshold %.3g: %.1f s", st.adaptive.noise_threshold, eta);
+  }
+}
+
+/// Equal-time A/B compare: B's settings (a CompareEdit: both restart) and each side's figures.
+void compare_panel(ViewerState& st) {
+  bool on = st.compare.has_value();
+  CompareConfig c = st.compare.value_or(CompareConfig{st.params.integrator, st.params.light_sampling, st.params.sampler, {}});
+  bool changed = ImGui::Checkbox("compare A | B", &on);
+  if (on) {
+    changed |= name_combo<IntegratorKind>("B integrator", kIntegratorNames, c.integrator);
+    changed |= name_combo<LightSampling>("B light sampling", kLightSamplingNames, c.light_sampling);
+    changed |= name_combo<SamplerKind>("B sampler", kSamplerNames, c.sampler);
+    bool adaptive = c.adaptive.enabled();
+    float t = float(adaptive ? c.adaptive.noise_threshold : 0.01);
+    changed |= ImGui::Checkbox("B adaptive", &adaptive);
+    ImGui::SameLine();
+    changed |= ImGui::SliderFloat("##Bthreshold", &t, 0.001f, 1.0f, "%.4f", ImGuiSliderFlags_Logarithmic);
+    c.adaptive.noise_threshold = adaptive ? double(t) : 0.0;
+    float d = st.divider;
+    if (ImGui::SliderFloat("divider", &d, 0.0f, 1.0f)) st.apply(DividerEdit{d});
+  }
+  if (changed) st.apply(CompareEdit{on ? std::optional<CompareConfig>(c) : std::nullopt});
+}
+
+void compare_stats(const ViewerState& st) {
+  if (!st.compare) return;
+  const SessionFrame* f[2] = {&st.frame, &st.frame_b};
+  const double rel[2] = {st.true_rel_mse(), st.frame_b_rel_mse};
+  double work[2] = {0, 0};  // relMSE x seconds: lower is more efficient
+  if (ImGui::BeginTable("ab", 3, ImGuiTableFlags_Borders)) {
+    ImGui::TableSetupColumn("");
+    ImGui::TableSetupColumn("A");
+    ImGui::TableSetupColumn("B");
+    ImGui::TableHeadersRow();
+    auto row = [&](const char* name, auto&& cell) {
+      ImGui::TableNextRow();
+      ImGui::TableNextColumn();
+      ImGui::TextUnformatted(name);
+      for (int k = 0; k < 2; ++k) {
+        ImGui::TableNextColumn();
+        cell(k);
+      }
+    };
+    row("spp", [&](int k) { ImGui::Text("%d", f[k]->spp); });
+    row("seconds", [&](int k) { ImGui::Text("%.2f", f[k]->seconds); });
+    row("est relMSE", [&](int k) {
+      bool ok = !f[k]->preview && std::isfinite(f[k]->est_rel_mse) && f[k]->est_rel_mse > 0;
+      if (ok) work[k] = f[k]->est_rel_mse * f[k]->seconds;
+      ok ? ImGui::Text("%.3g", f[k]->est_rel_mse) : ImGui::TextDisabled("-");
+    });
+    if (st.reference)
+      row("true relMSE", [&](int k) { std::isfinite(rel[k]) ? ImGui::Text("%.3g", rel[k]) : ImGui::TextDisabled("-"); });
+    ImGui::EndTable();
+  }
+  // Efficiency = 1 / (relMSE x time) (Veach's figure of merit); B/A > 1: B converges faster in equal time.
+  if (work[0] > 0 && work[1] > 0) ImGui::Text("efficiency B/A %.2f", work[0] / work[1]);
 }
 
 void stats_panel(const ViewerState& st) {
@@ -194,6 +313,8 @@ void stats_panel(const ViewerState& st) {
   ImGui::Text("%d x %d%s", f.width, f.height, f.preview ? "  (preview)" : "");
   ImGui::Text("spp %d   %.1f spp/s   %.2f Mrays/s", f.spp, sps, mrays);
   ImGui::Text("elapsed %.1f s   threads %d", f.seconds, st.session->thread_count());
+  convergence_stats(st);
+  compare_stats(st);
   ImGui::Text("non-finite samples %llu", (unsigned long long)f.counters.nonfinite_samples);
   std::vector<double> lat = st.restart_latency_ms;
   std::sort(lat.begin(), lat.end());
@@ -220,6 +341,7 @@ void draw_panels(ViewerState& st, PanelState& ps, float width, float height) {
   if (ImGui::CollapsingHeader("Light", ImGuiTreeNodeFlags_DefaultOpen)) light_panel(st);
   if (ImGui::CollapsingHeader("Scene", st.loading.valid() ? ImGuiTreeNodeFlags_DefaultOpen : 0)) scene_panel(st, ps);
   if (ImGui::CollapsingHeader("Display", ImGuiTreeNodeFlags_DefaultOpen)) display_panel(st);
+  if (ImGui::CollapsingHeader("Compare", st.compare ? ImGuiTreeNodeFlags_DefaultOpen : 0)) compare_panel(st);
   if (ImGui::CollapsingHeader("Stats", ImGuiTreeNodeFlags_DefaultOpen)) stats_panel(st);
   ImGui::PopItemWidth();
   ImGui::End();

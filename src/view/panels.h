@@ -15,6 +15,7 @@ struct PanelState {
   int target_spp = 0;
   bool lock_size = false;      ///< the render size does not follow the window (--size locks it)
   std::string scene_path = "scene.json";
+  double noise_threshold = 0.01;  ///< the slider's value while adaptive sampling is off
 };
 
 void draw_panels(ViewerState& st, PanelState& ps, float width, float height);

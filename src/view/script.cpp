@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <fstream>
 #include <sstream>
+#include <variant>
 
 #include "render/names.h"
 #include "view/camera_control.h"
@@ -69,6 +70,61 @@ std::string check_tonemap(const std::vector<std::string>& a) {
   return value_of<Tonemap>(kTonemapNames, a[0]) ? ""
                                                 : "unknown tonemap '" + a[0] + "' (expected " +
                                                       names_list<Tonemap>(kTonemapNames) + ")";
+}
+
+std::string check_display_mode(const std::vector<std::string>& a) {
+  return value_of<DisplayMode>(kDisplayModeNames, a[0]) ? ""
+                                                        : "unknown display mode '" + a[0] + "' (expected " +
+                                                              names_list<DisplayMode>(kDisplayModeNames) + ")";
+}
+
+std::string check_noise_threshold(const std::vector<std::string>& a) {
+  double t = std::strtod(a[0].c_str(), nullptr);
+  if (!(t >= 0.0 && t <= 1.0)) return "'" + a[0] + "': the threshold must be from 0 (off) to 1";
+  if (a.size() > 1) {
+    double m = std::strtod(a[1].c_str(), nullptr);
+    if (!(m >= 0 && m == std::floor(m) && m <= (1 << 24)))
+      return "'" + a[1] + "': the minimum spp must be an integer from 0 (automatic) to 16777216";
+  }
+  return {};
+}
+
+/// `compare off` or `compare key=value ...` over A's settings: integrator=, light-sampling=, sampler=,
+/// adaptive=T|off. Returns the config, or the reason it is malformed.
+std::variant<std::optional<CompareConfig>, std::string> parse_compare(const std::vector<std::string>& a,
+                                                                      const RenderParams& base) {
+  if (a.size() == 1 && a[0] == "off") return std::optional<CompareConfig>{};
+  CompareConfig c{base.integrator, base.light_sampling, base.sampler, {}};
+  for (const std::string& kv : a) {
+    size_t eq = kv.find('=');
+    std::string key = kv.substr(0, eq), value = eq == std::string::npos ? "" : kv.substr(eq + 1);
+    if (key == "integrator" && value_of<IntegratorKind>(kIntegratorNames, value))
+      c.integrator = *value_of<IntegratorKind>(kIntegratorNames, value);
+    else if (key == "light-sampling" && value_of<LightSampling>(kLightSamplingNames, value))
+      c.light_sampling = *value_of<LightSampling>(kLightSamplingNames, value);
+    else if (key == "sampler" && value_of<SamplerKind>(kSamplerNames, value))
+      c.sampler = *value_of<SamplerKind>(kSamplerNames, value);
+    else if (key == "adaptive" && value == "off")
+      c.adaptive = {};
+    else if (key == "adaptive" && is_number(value) && std::strtod(value.c_str(), nullptr) > 0 &&
+             std::strtod(value.c_str(), nullptr) <= 1)
+      c.adaptive.noise_threshold = std::strtod(value.c_str(), nullptr);
+    else
+      return "'" + kv + "': expected off, integrator=" + names_list<IntegratorKind>(kIntegratorNames) +
+             ", light-sampling=" + names_list<LightSampling>(kLightSamplingNames) + ", sampler=" +
+             names_list<SamplerKind>(kSamplerNames) + " or adaptive=T|off (0 < T <= 1)";
+  }
+  return std::optional<CompareConfig>{c};
+}
+
+std::string check_compare(const std::vector<std::string>& a) {
+  auto r = parse_compare(a, RenderParams{});
+  return std::holds_alternative<std::string>(r) ? std::get<std::string>(r) : "";
+}
+
+std::string check_fraction(const std::vector<std::string>& a) {
+  double v = std::strtod(a[0].c_str(), nullptr);
+  return v >= 0.0 && v <= 1.0 ? "" : "'" + a[0] + "' is not a fraction from 0 to 1";
 }
 
 /// The camera commands: a copy of the camera moved, applied as a CameraEdit.
@@ -177,6 +233,41 @@ const ScriptCommandSpec kCommands[] = {
        st.apply(DisplayEdit{d});
        return ScriptStep::done;
      }},
+    {"display", "image|error|samples|reference-error", 1, 1, false, check_display_mode,
+     [](ScriptRun& r, ViewerState& st, const ScriptCommand& c) {
+       const DisplayMode mode = *value_of<DisplayMode>(kDisplayModeNames, c.args[0]);
+       if (st.display_mode != mode && st.apply(DisplayModeEdit{mode}) == Tier::none) {
+         fail(r, c, "display reference-error: needs --reference");
+         return ScriptStep::done;
+       }
+       // Done once the mode can be shown: a full frame of the current epoch, with its map for error / samples
+       // (republished at once by the session), so a following screenshot shows the mode.
+       const SessionFrame& f = st.frame;
+       bool ready = mode == DisplayMode::image ||
+                    (st.session && f.epoch == st.session->epoch() && !f.preview && f.frames > 0 &&
+                     (mode == DisplayMode::error     ? f.rel_error.width == f.width
+                      : mode == DisplayMode::samples ? f.spp_map.width == f.width
+                                                     : true));
+       return ready ? ScriptStep::done : ScriptStep::wait;
+     }},
+    {"noise-threshold", "T [MIN_SPP]", 1, 2, true, check_noise_threshold,
+     [](ScriptRun&, ViewerState& st, const ScriptCommand& c) {
+       AdaptiveParams a;
+       a.noise_threshold = std::strtod(c.args[0].c_str(), nullptr);
+       a.min_spp = c.args.size() > 1 ? int(num(c, 1)) : 0;
+       st.apply(AdaptiveEdit{a});  // no restart: stopped pixels resume when the threshold drops
+       return ScriptStep::done;
+     }},
+    {"compare", "off | [integrator=I] [light-sampling=L] [sampler=S] [adaptive=T|off]", 1, 4, false, check_compare,
+     [](ScriptRun&, ViewerState& st, const ScriptCommand& c) {
+       st.apply(CompareEdit{std::get<std::optional<CompareConfig>>(parse_compare(c.args, st.params))});
+       return ScriptStep::done;
+     }},
+    {"divider", "F", 1, 1, true, check_fraction,
+     [](ScriptRun&, ViewerState& st, const ScriptCommand& c) {
+       st.apply(DividerEdit{num(c, 0)});
+       return ScriptStep::done;
+     }},
     {"load", "PATH", 1, 1, false, check_none,
      [](ScriptRun&, ViewerState& st, const ScriptCommand& c) {
        st.start_load(c.args[0]);
@@ -186,6 +277,8 @@ const ScriptCommandSpec kCommands[] = {
      [](ScriptRun&, ViewerState& st, const ScriptCommand& c) {
        bool ready = !st.loading.valid() && st.session && st.frame.epoch == st.session->epoch() &&
                     st.frame.frames >= int(num(c, 0));
+       if (st.compare && st.session_b)  // in a compare, both sides
+         ready = ready && st.frame_b.epoch == st.session_b->epoch() && st.frame_b.frames >= int(num(c, 0));
        return ready ? ScriptStep::done : ScriptStep::wait;
      }},
     {"wait-ms", "N", 1, 1, true, check_count,
@@ -207,6 +300,7 @@ const ScriptCommandSpec kCommands[] = {
     {"stop-at-spp", "N", 1, 1, true, check_count,
      [](ScriptRun&, ViewerState& st, const ScriptCommand& c) {
        st.session->set_target_spp(int(num(c, 0)));  // as the Render panel's "stop at spp"; 0: never stop
+       if (st.session_b) st.session_b->set_target_spp(int(num(c, 0)));
        return ScriptStep::done;
      }},
     {"save", "PATH", 1, 1, false, check_none,
@@ -290,7 +384,8 @@ void ScriptRun::step(ViewerState& st) {
   while (!done()) {
     const ScriptCommand& c = commands[next];
     const ScriptCommandSpec& spec = *find_command(c.name);
-    if (!is_wait(c.name)) {
+    if (!is_wait(c.name) && started != next) {
+      started = next;
       epoch_before_previous = epoch_before_current;
       epoch_before_current = st.session ? st.session->epoch() : 0;
     }

@@ -32,6 +32,7 @@ struct ScriptRun {
   uint64_t epoch_before_previous = 0, epoch_before_current = 0;
   std::chrono::steady_clock::time_point wait_until{};
   bool waiting_ms = false;
+  size_t started = size_t(-1);  ///< index of the command whose epoch bookkeeping is done (it may wait: display)
   int failures = 0;                ///< failed expectations and impossible commands (exit code 3)
   bool quit = false;
   std::string screenshot_request;  ///< a window PNG to write at the end of this UI frame

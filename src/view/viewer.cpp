@@ -11,10 +11,12 @@
 #include <imgui.h>
 
 #include <cstdio>
+#include <cmath>
 #include <cstdlib>
 
 #include "core/atomic_file.h"
 #include "view/display.h"
+#include "view/display_mode.h"
 #include "view/input.h"
 #include "view/panels.h"
 #include "view/script.h"
@@ -113,9 +115,15 @@ struct SizeFollower {
 
 /// Shows the newest frame; the first frame of an epoch closes its restart-latency measurement, and full frames
 /// tune the preview divisor so a preview takes about 10 ms.
-void fetch_frame(ViewerState& st, GlDisplay& gl) {
-  if (!st.session->fetch(st.frame)) return;
-  gl.upload(st.frame.image);
+void fetch_frame(ViewerState& st, GlDisplay& gl, Image& shown, HeatLegend& legend, bool& heat) {
+  bool fresh = st.session->fetch(st.frame);
+  if (fresh) st.note_frame();
+  if (fresh || st.display_dirty) {
+    heat = make_display_image(st.display_mode, st.frame, st.reference ? &*st.reference : nullptr, shown, legend);
+    gl.upload(shown);
+    st.display_dirty = false;
+  }
+  if (!fresh) return;
   auto it = st.restart_started.find(st.frame.epoch);
   if (it != st.restart_started.end()) {
     st.restart_latency_ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - it->second).count());
@@ -125,6 +133,59 @@ void fetch_frame(ViewerState& st, GlDisplay& gl) {
     st.full_res_frame_seconds = st.frame.seconds / st.frame.frames;
   if (st.full_res_frame_seconds > 0)
     st.preview_div = std::clamp(int(std::ceil(std::sqrt(st.full_res_frame_seconds / 0.010))), 1, 8);
+}
+
+/// B's side of a compare: its newest frame, shown through its own texture.
+void fetch_frame_b(ViewerState& st, GlDisplay& gl, Image& shown, bool& heat, bool dirty) {
+  if (!st.compare || !st.session_b) return;
+  bool fresh = st.session_b->fetch(st.frame_b);
+  if (fresh) st.note_frame_b();
+  if (fresh || dirty) {
+    HeatLegend unused;
+    heat = make_display_image(st.display_mode, st.frame_b, st.reference ? &*st.reference : nullptr, shown, unused);
+    gl.upload(shown);
+  }
+}
+
+/// Drags the compare divider: a press within a few pixels of it takes the mouse (no orbit) until release.
+/// Returns true while the divider has the mouse.
+bool drag_divider(GLFWwindow* window, ViewerState& st, const ImageArea& area, bool ui_mouse, bool& dragging) {
+  if (!st.compare) return dragging = false;
+  double mx, my;
+  glfwGetCursorPos(window, &mx, &my);
+  const double fx = mx * area.to_fb, line = area.rect.x + st.divider * area.rect.w;
+  bool down = glfwGetMouseButton(window, GLFW_MOUSE_BUTTON_LEFT) == GLFW_PRESS;
+  if (!down) return dragging = false;
+  if (!dragging && !ui_mouse && std::abs(fx - line) <= 6.0 * area.to_fb) dragging = true;
+  if (dragging && area.rect.w > 0) st.apply(DividerEdit{float((fx - area.rect.x) / area.rect.w)});
+  return dragging;
+}
+
+/// The heatmap's legend: a colour bar with values at the bottom right of the image area, right of the panels
+/// (usually in the letterbox margin below the image; ImGui coordinates).
+void draw_legend(const HeatLegend& legend, float area_x0, float x1, float y1) {
+  ImDrawList* dl = ImGui::GetForegroundDrawList();
+  const float pad = 8.0f, margin = 24.0f, h = 14.0f;
+  const float w = std::clamp(x1 - area_x0 - 2 * margin - 2 * pad, 60.0f, 260.0f);
+  const float x0 = x1 - margin - pad - w, y0 = y1 - h - 36.0f;
+  dl->AddRectFilled(ImVec2(x0 - pad, y0 - 22.0f), ImVec2(x0 + w + pad, y1 - 6.0f), IM_COL32(0, 0, 0, 190), 4.0f);
+  dl->AddText(ImVec2(x0, y0 - 19.0f), IM_COL32_WHITE, legend.title.c_str());
+  const int steps = 32;
+  for (int i = 0; i < steps; ++i) {
+    vec3 a = heat_srgb(float(i) / steps), b = heat_srgb(float(i + 1) / steps);
+    auto col = [](vec3 c) { return IM_COL32(int(c.x * 255), int(c.y * 255), int(c.z * 255), 255); };
+    dl->AddRectFilledMultiColor(ImVec2(x0 + w * i / steps, y0), ImVec2(x0 + w * (i + 1) / steps, y0 + h), col(a),
+                                col(b), col(b), col(a));
+  }
+  const int ticks = legend.log ? int(std::lround(std::log10(legend.hi / legend.lo))) : 4;
+  for (int k = 0; k <= ticks; ++k) {
+    double v = legend.log ? legend.lo * std::pow(10.0, k) : legend.lo + (legend.hi - legend.lo) * k / ticks;
+    char label[32];
+    std::snprintf(label, sizeof label, legend.log ? "%g" : "%.0f", v);
+    float tx = x0 + w * float(k) / float(ticks);
+    dl->AddLine(ImVec2(tx, y0 + h), ImVec2(tx, y0 + h + 4), IM_COL32_WHITE);
+    dl->AddText(ImVec2(tx - ImGui::CalcTextSize(label).x * 0.5f, y0 + h + 5), IM_COL32_WHITE, label);
+  }
 }
 
 bool report(const std::optional<Error>& err) {
@@ -163,10 +224,41 @@ int run_viewer(const RenderParams& params, const DisplaySettings& display, const
   }
 
   ViewerState st;
-  st.init(std::move(scene), params, display, params.threads);
+  st.adaptive = hooks.adaptive;
+  RenderParams start = params;
+  bool lock_size = hooks.lock_size;
+  if (!hooks.reference.empty()) {
+    Result<Image> ref = load_image(hooks.reference);
+    std::string err = ref ? "" : ref.error();
+    if (ref && hooks.lock_size && (ref->width != params.width || ref->height != params.height))
+      err = hooks.reference + ": reference is " + std::to_string(ref->width) + "x" + std::to_string(ref->height) +
+            ", the render " + std::to_string(params.width) + "x" + std::to_string(params.height);
+    if (!err.empty()) {
+      std::fprintf(stderr, "ptview: error: %s\n", err.c_str());
+      gl.destroy();
+      close_window(window);
+      return 2;
+    }
+    // The render keeps the reference's size (it no longer follows the window).
+    start.width = ref->width;
+    start.height = ref->height;
+    lock_size = true;
+    st.reference = std::move(*ref);
+  }
+  st.init(std::move(scene), start, display, params.threads);
   PanelState panels;
   panels.save_path = hooks.out.empty() ? "ptview.png" : hooks.out;
-  panels.lock_size = hooks.lock_size;
+  panels.lock_size = lock_size;
+  Image shown, shown_b;
+  HeatLegend legend;
+  bool heat = false, heat_b = false, divider_drag = false;
+  GlDisplay gl_b;
+  if (std::string err = gl_b.init(); !err.empty()) {
+    std::fprintf(stderr, "ptview: error: %s\n", err.c_str());
+    gl.destroy();
+    close_window(window);
+    return 2;
+  }
   SizeFollower follow;
   int exit_code = 0;
   auto last_frame_time = Clock::now();
@@ -192,21 +284,47 @@ int run_viewer(const RenderParams& params, const DisplaySettings& display, const
     area.rect.x += area.panel_px;
 
     st.poll_load();
-    if (process_input(window, input, st, area, dt, io.WantCaptureMouse, io.WantCaptureKeyboard))
+    bool divider_mouse = drag_divider(window, st, area, io.WantCaptureMouse, divider_drag);
+    if (process_input(window, input, st, area, dt, io.WantCaptureMouse || divider_mouse, io.WantCaptureKeyboard))
       panels.open_material = true;
     if (!script.done()) script.step(st);
     follow.update(st, panels.lock_size, area_w, area_h);
-    fetch_frame(st, gl);
+    st.tick_compare();
+    const bool dirty = st.display_dirty;
+    fetch_frame(st, gl, shown, legend, heat);
+    fetch_frame_b(st, gl_b, shown_b, heat_b, dirty);
 
     ImGui_ImplOpenGL3_NewFrame();
     ImGui_ImplGlfw_NewFrame();
     ImGui::NewFrame();
     draw_panels(st, panels, float(kPanelWidth) * xscale, float(wh));
+    if (st.compare) {
+      ImDrawList* dl = ImGui::GetForegroundDrawList();
+      const float x = (area.rect.x + st.divider * area.rect.w) / area.to_fb;
+      const float top = float(fb_h - area.rect.y - area.rect.h) / area.to_fb, bottom = float(fb_h - area.rect.y) / area.to_fb;
+      dl->AddLine(ImVec2(x, top), ImVec2(x, bottom), IM_COL32(255, 255, 255, 220), 2.0f);
+      dl->AddText(ImVec2(x - 16, top + 4), IM_COL32_WHITE, "A");
+      dl->AddText(ImVec2(x + 8, top + 4), IM_COL32_WHITE, "B");
+    }
+    if (heat)
+      draw_legend(legend, float(area.panel_px) / area.to_fb, float(fb_w) / area.to_fb, float(fb_h) / area.to_fb);
     ImGui::Render();
     glViewport(0, 0, fb_w, fb_h);
     glClearColor(0.08f, 0.08f, 0.09f, 1.0f);
     glClear(GL_COLOR_BUFFER_BIT);
-    gl.draw(area.rect.x, area.rect.y, area.rect.w, area.rect.h, st.display);
+    // A heatmap is already display-ready: exposure 0 and the clamp tonemap leave its colours as they are.
+    if (st.compare) {
+      // A left of the divider, B right: the same rectangle drawn twice, each clipped to its side.
+      const int split = int(std::lround(st.divider * area.rect.w));
+      glEnable(GL_SCISSOR_TEST);
+      glScissor(area.rect.x, area.rect.y, split, area.rect.h);
+      gl.draw(area.rect.x, area.rect.y, area.rect.w, area.rect.h, heat ? DisplaySettings{} : st.display);
+      glScissor(area.rect.x + split, area.rect.y, area.rect.w - split, area.rect.h);
+      gl_b.draw(area.rect.x, area.rect.y, area.rect.w, area.rect.h, heat_b ? DisplaySettings{} : st.display);
+      glDisable(GL_SCISSOR_TEST);
+    } else {
+      gl.draw(area.rect.x, area.rect.y, area.rect.w, area.rect.h, heat ? DisplaySettings{} : st.display);
+    }
     glViewport(0, 0, fb_w, fb_h);
     ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
     ++st.ui_frames;
@@ -226,7 +344,9 @@ int run_viewer(const RenderParams& params, const DisplaySettings& display, const
     if (f.valid() && report(f.get())) exit_code = 2;
   if (!hooks.stats_json.empty() && report(write_file_atomic(hooks.stats_json, st.stats_json()))) exit_code = 2;
   st.session.reset();
+  st.session_b.reset();
   gl.destroy();
+  gl_b.destroy();
   close_window(window);
   if (exit_code == 0 && script.failures > 0) exit_code = 3;
   return exit_code;

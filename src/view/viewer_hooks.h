@@ -3,6 +3,8 @@
 #include <optional>
 #include <string>
 
+#include "render/adaptive.h"
+
 namespace pt {
 
 struct ViewerHooks {
@@ -12,6 +14,8 @@ struct ViewerHooks {
   std::string stats_json;                ///< stats written at exit
   std::string out;                       ///< default file name for "save image"
   bool lock_size = false;                ///< --size given: the render size does not follow the window
+  std::string reference;                 ///< --reference: true relMSE and the reference-error display mode
+  AdaptiveParams adaptive;               ///< --noise-threshold, --min-spp: the initial adaptive sampling
 };
 
 }  // namespace pt

@@ -1,8 +1,12 @@
 #include "view/viewer_state.h"
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 
 #include "render/camera.h"
+#include "render/image_error.h"
+#include "render/names.h"
 #include "render/stats_json.h"
 #include "scene/load.h"
 #include "scene/save_json.h"
@@ -44,13 +48,23 @@ void ViewerState::init(Scene s, const RenderParams& p, const DisplaySettings& d,
   loaded_materials = scene.materials;
   lights = find_scene_lights(scene);
   render_scene = std::make_shared<RenderScene>(make_render_scene(scene, geo));
-  if (threads >= 0) session = std::make_unique<RenderSession>(threads);
+  if (threads >= 0) {
+    session = std::make_unique<RenderSession>(threads);
+    session->set_adaptive(adaptive);
+  }
   restart();
 }
 
 void ViewerState::restart() {
   ++restarts;
   if (!session) return;
+  if (compare && session_b) {
+    session_b->set_preview_divisor(preview_div);
+    session_b->set_adaptive(compare->adaptive);
+    session_b->restart(render_scene, params_b());
+    slice_b = false;
+    slice_start = Clock::now();
+  }
   session->set_preview_divisor(preview_div);
   uint64_t e = session->restart(render_scene, params);
   restart_started[e] = Clock::now();
@@ -60,7 +74,8 @@ void ViewerState::restart() {
 Tier ViewerState::commit(Tier tier) {
   switch (tier) {
     case Tier::none:
-    case Tier::display: return tier;
+    case Tier::display:
+    case Tier::sampling: return tier;
     case Tier::camera: {
       auto rs = std::make_shared<RenderScene>(*render_scene);
       rs->camera = scene.camera.value_or(Camera{});
@@ -103,6 +118,49 @@ Tier ViewerState::apply(const Edit& edit) {
     }
     Tier operator()(const DisplayEdit& e) const {
       st.display = e.display;
+      return Tier::display;
+    }
+    Tier operator()(const DisplayModeEdit& e) const {
+      if (e.mode == DisplayMode::reference_error && !st.reference) return Tier::none;
+      st.display_mode = e.mode;
+      st.display_dirty = true;
+      bool maps = e.mode == DisplayMode::error || e.mode == DisplayMode::samples;
+      if (st.session) st.session->set_publish_maps(maps);
+      if (st.session_b) st.session_b->set_publish_maps(maps);
+      return Tier::display;
+    }
+    Tier operator()(const AdaptiveEdit& e) const {
+      AdaptiveParams a = e.adaptive;
+      if (!std::isfinite(a.noise_threshold) || a.noise_threshold < 0.0 || a.noise_threshold > 1.0 || a.min_spp < 0)
+        return Tier::none;
+      if (a.noise_threshold == st.adaptive.noise_threshold && a.min_spp == st.adaptive.min_spp) return Tier::none;
+      st.adaptive = a;
+      if (st.session) st.session->set_adaptive(a);
+      return Tier::sampling;
+    }
+    Tier operator()(const CompareEdit& e) const {
+      if (!e.b) {
+        if (!st.compare) return Tier::none;
+        st.compare.reset();
+        if (st.session_b) st.session_b->set_paused(true);
+        if (st.session) st.session->set_paused(st.paused);
+        return Tier::display;
+      }
+      const AdaptiveParams& a = e.b->adaptive;
+      if (!std::isfinite(a.noise_threshold) || a.noise_threshold < 0.0 || a.noise_threshold > 1.0 || a.min_spp < 0)
+        return Tier::none;
+      if (st.compare && *st.compare == *e.b) return Tier::none;
+      st.compare = e.b;
+      if (st.session && !st.session_b) st.session_b = std::make_unique<RenderSession>(st.session->thread_count());
+      if (st.session_b)
+        st.session_b->set_publish_maps(st.display_mode == DisplayMode::error || st.display_mode == DisplayMode::samples);
+      st.frame_b = SessionFrame{};
+      st.display_dirty = true;
+      return Tier::camera;  // both sides start together
+    }
+    Tier operator()(const DividerEdit& e) const {
+      if (!std::isfinite(e.x)) return Tier::none;
+      st.divider = std::clamp(e.x, 0.0f, 1.0f);
       return Tier::display;
     }
     Tier operator()(const MaterialEdit& e) const {
@@ -207,6 +265,51 @@ std::optional<Error> ViewerState::save_scene(const std::string& path) {
   return err;
 }
 
+RenderParams ViewerState::params_b() const {
+  RenderParams p = params;
+  if (compare) {
+    p.integrator = compare->integrator;
+    p.light_sampling = compare->light_sampling;
+    p.sampler = compare->sampler;
+  }
+  return p;
+}
+
+void ViewerState::set_paused(bool p) {
+  paused = p;
+  if (session) session->set_paused(p || (compare && slice_b));
+  if (session_b) session_b->set_paused(p || !compare || !slice_b);
+}
+
+void ViewerState::tick_compare() {
+  if (!compare || !session_b || paused) return;
+  if (std::chrono::duration<double>(Clock::now() - slice_start).count() >= kCompareSliceSeconds) {
+    slice_b = !slice_b;
+    slice_start = Clock::now();
+  }
+  if (session->paused() != slice_b) session->set_paused(slice_b);
+  if (session_b->paused() != !slice_b) session_b->set_paused(!slice_b);
+}
+
+void ViewerState::note_frame_b() {
+  bool comparable = reference && !frame_b.preview && frame_b.image.width == reference->width &&
+                    frame_b.image.height == reference->height;
+  frame_b_rel_mse =
+      comparable ? compare_images(frame_b.image, *reference).rel_mse : std::numeric_limits<double>::quiet_NaN();
+}
+
+void ViewerState::note_frame() {
+  if (!error_history.empty() && (frame.seconds < error_history.back().first || frame.preview)) error_history.clear();
+  if (!frame.preview && frame.seconds > 0 && std::isfinite(frame.est_rel_mse) && frame.est_rel_mse > 0)
+    error_history.emplace_back(frame.seconds, frame.est_rel_mse);
+  if (error_history.size() > 4096) error_history.erase(error_history.begin(), error_history.begin() + 2048);
+  bool comparable = reference && !frame.preview && frame.image.width == reference->width &&
+                    frame.image.height == reference->height;
+  frame_rel_mse = comparable ? compare_images(frame.image, *reference).rel_mse : std::numeric_limits<double>::quiet_NaN();
+}
+
+
+
 std::string ViewerState::stats_json() const {
   double elapsed = std::chrono::duration<double>(Clock::now() - start_time).count();
   RunSummary run;
@@ -217,6 +320,13 @@ std::string ViewerState::stats_json() const {
   run.counters = frame.counters;
   run.threads = session ? session->thread_count() : 0;
   run.epoch = frame.epoch;
+  run.convergence.est_rel_mse = frame.preview ? std::numeric_limits<double>::quiet_NaN() : frame.est_rel_mse;
+  run.convergence.converged_fraction = frame.converged_fraction;
+  run.convergence.spp = frame.spp_stats;
+  if (adaptive.enabled()) {
+    run.convergence.noise_threshold = adaptive.noise_threshold;
+    run.convergence.min_spp = effective_min_spp(adaptive);
+  }
   RenderParams shown = params;
   shown.width = frame.width;
   shown.height = frame.height;
@@ -229,6 +339,25 @@ std::string ViewerState::stats_json() const {
   j["restarts"] = restarts;
   j["geometry_builds"] = geometry_builds;
   j["geometry_refits"] = geometry_refits;
+  j["display_mode"] = name_of<DisplayMode>(kDisplayModeNames, display_mode);
+  if (compare) {
+    auto num = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); };
+    auto side = [&](const SessionFrame& f, double rel) {
+      return nlohmann::json{{"spp", f.spp},
+                            {"seconds", f.seconds},
+                            {"est_rel_mse", num(f.preview ? std::numeric_limits<double>::quiet_NaN() : f.est_rel_mse)},
+                            {"rel_mse", num(rel)}};
+    };
+    j["compare"] = {{"a", side(frame, frame_rel_mse)}, {"b", side(frame_b, frame_b_rel_mse)}};
+    j["compare"]["b"]["integrator"] = name_of(compare->integrator);
+    j["compare"]["b"]["light_sampling"] = name_of(compare->light_sampling);
+    j["compare"]["b"]["sampler"] = name_of(compare->sampler);
+    j["compare"]["b"]["noise_threshold"] = compare->adaptive.noise_threshold;
+  }
+  if (reference) {
+    double rel = true_rel_mse();
+    j["rel_mse"] = std::isfinite(rel) ? nlohmann::json(rel) : nlohmann::json(nullptr);
+  }
   return j.dump(2) + "\n";
 }
 

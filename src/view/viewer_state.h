@@ -4,6 +4,7 @@
 #include <atomic>
 #include <chrono>
 #include <future>
+#include <limits>
 #include <map>
 #include <memory>
 #include <string>
@@ -33,9 +34,27 @@ struct LoadProgress {
   Clock::time_point started = Clock::now();
 };
 
+inline constexpr double kCompareSliceSeconds = 0.1;
+
 struct ViewerState {
   RenderParams params;         ///< full-resolution parameters
   DisplaySettings display;
+  DisplayMode display_mode = DisplayMode::image;
+  bool display_dirty = true;   ///< the shown image must be rebuilt from `frame` (a display-mode change)
+  AdaptiveParams adaptive;     ///< adaptive sampling as last applied to the session
+  std::optional<Image> reference;  ///< --reference, for the true relMSE and the reference-error mode
+  /// (seconds, est relMSE) of the current epoch's full frames, for the Stats panel's error-vs-time plot.
+  std::vector<std::pair<double, double>> error_history;
+  // Equal-time A/B compare (issue 12): B renders the same scene and camera with `compare`'s settings, A and B
+  // taking turns in wall-clock slices of kCompareSliceSeconds (tick_compare); any restart restarts both.
+  std::optional<CompareConfig> compare;
+  std::unique_ptr<RenderSession> session_b;  ///< kept, paused, after compare off (never joined on the UI thread)
+  SessionFrame frame_b;
+  double frame_b_rel_mse = std::numeric_limits<double>::quiet_NaN();
+  float divider = 0.5f;        ///< A left of this fraction of the image width, B right
+  bool paused = false;         ///< the user's pause (both sides)
+  bool slice_b = false;        ///< B's turn
+  Clock::time_point slice_start = Clock::now();
   Scene scene;
   Camera home_camera;
   std::shared_ptr<const RenderGeometry> geo;
@@ -71,6 +90,20 @@ struct ViewerState {
   /// Installs `scene` (finalized) and builds its geometry on this thread; with `threads` >= 0 also starts a render
   /// session (tests without rendering pass -1).
   void init(Scene scene, const RenderParams& params, const DisplaySettings& display, int threads);
+  /// B's parameters: A's with the compare config's integrator, light sampling and sampler.
+  RenderParams params_b() const;
+  /// Pauses or resumes rendering (both sides in a compare).
+  void set_paused(bool p);
+  /// Gives the render to A or B in turn, every kCompareSliceSeconds of wall-clock time; call once per UI frame.
+  void tick_compare();
+  /// Takes a newly fetched B frame (its true relMSE).
+  void note_frame_b();
+  /// Takes a newly fetched frame: records its error history (reset with each epoch).
+  void note_frame();
+  /// True relMSE of the current frame against the reference (NaN without one or when the sizes differ); computed
+  /// once per fetched frame by note_frame, not per UI frame.
+  double true_rel_mse() const { return frame_rel_mse; }
+  double frame_rel_mse = std::numeric_limits<double>::quiet_NaN();
 
   /// Applies an edit: the one place that chooses and performs the restart tier. Returns the tier performed (none
   /// when the edit was rejected or changed nothing).

@@ -352,6 +352,146 @@ TEST(Viewer, ASavedSceneRendersHeadlessAsTheViewerShowsIt) {
   }
 }
 
+/// The viewer's panel column is 360 pixels wide under Xvfb (scale 1): the image area is right of it.
+constexpr int kPanelPx = 360;
+
+/// Mean absolute difference of two screenshots over the image area.
+double image_area_diff(const Png& a, const Png& b) {
+  if (a.w != b.w || a.h != b.h || !a.ok()) return -1;
+  double d = 0;
+  size_t n = 0;
+  for (int y = 0; y < a.h; ++y)
+    for (int x = kPanelPx; x < a.w; ++x, ++n)
+      for (int c = 0; c < 3; ++c) d += std::abs(int(a.rgb[(size_t(y) * a.w + x) * 3 + c]) - int(b.rgb[(size_t(y) * a.w + x) * 3 + c]));
+  return d / double(n * 3);
+}
+
+/// Count of image-area pixels close to the heat colour map's top colour (252, 255, 163) in sRGB.
+size_t top_heat_pixels(const Png& p) {
+  size_t n = 0;
+  for (int y = 0; y < p.h; ++y)
+    for (int x = kPanelPx; x < p.w; ++x) {
+      const unsigned char* q = &p.rgb[(size_t(y) * p.w + x) * 3];
+      n += std::abs(q[0] - 252) < 8 && std::abs(q[1] - 255) < 8 && std::abs(q[2] - 163) < 10;
+    }
+  return n;
+}
+
+TEST(Viewer, DisplayModesChangeThePixelsWithoutRestarting) {
+  REQUIRE_DISPLAY();
+  TempDir dir;
+  std::string script = write_script(
+      dir, "stop-at-spp 24\nwait-frames 6\nscreenshot " + dir / "image.png" +
+               "\ndisplay error\nexpect-no-restart\nscreenshot " + dir / "error.png" +
+               "\ndisplay samples\nexpect-no-restart\nscreenshot " + dir / "samples.png" +
+               "\ndisplay image\nexpect-no-restart\nscreenshot " + dir / "image2.png" + "\nquit\n");
+  auto r = run_window({"--size", "96x64", "--max-depth", "4", "--script", script, "--stats-json", dir / "stats.json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  Png image(dir / "image.png"), error(dir / "error.png"), samples(dir / "samples.png"), image2(dir / "image2.png");
+  ASSERT_TRUE(image.ok() && error.ok() && samples.ok() && image2.ok());
+  // The 96 x 64 render is about an eighth of the image area (the rest is letterbox margin and the legend).
+  EXPECT_GT(image_area_diff(image, error), 2.0) << "the error heatmap must differ from the image";
+  EXPECT_GT(image_area_diff(error, samples), 2.0);
+  // Without adaptive sampling every pixel has the most samples: the samples map is the top colour throughout.
+  EXPECT_GT(top_heat_pixels(samples), size_t(96 * 64 * 9 / 10));
+  EXPECT_LT(top_heat_pixels(image), size_t(96 * 64 / 20));
+  EXPECT_LT(image_area_diff(image, image2), image_area_diff(image, error)) << "back to the image";
+  auto j = nlohmann::json::parse(read_file(dir / "stats.json"));
+  EXPECT_EQ(j["epoch"].get<int>(), 1) << "no display mode restarted";
+  EXPECT_EQ(j["display_mode"], "image");
+  EXPECT_GT(j["est_rel_mse"].get<double>(), 0.0) << "the session frame's estimate reaches the stats JSON";
+}
+
+TEST(Viewer, ReferenceErrorModeAndTrueRelMse) {
+  REQUIRE_DISPLAY();
+  TempDir dir;
+  auto h = test::run_ptview({"--size", "64x48", "--max-depth", "4", "--frames", "64", "--out", dir / "ref.pfm"}, 120);
+  ASSERT_EQ(h.exit_code, 0) << h.err;
+  std::string script = write_script(dir, "wait-frames 2\nscreenshot " + dir / "image.png" +
+                                             "\ndisplay reference-error\nexpect-no-restart\nscreenshot " +
+                                             dir / "referr.png" + "\nquit\n");
+  auto r = run_window({"--max-depth", "4", "--reference", dir / "ref.pfm", "--script", script, "--stats-json",
+                       dir / "stats.json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  Png image(dir / "image.png"), referr(dir / "referr.png");
+  EXPECT_GT(image_area_diff(image, referr), 1.0);
+  auto j = nlohmann::json::parse(read_file(dir / "stats.json"));
+  EXPECT_EQ(j["width"], 64) << "the render takes the reference's size";
+  EXPECT_EQ(j["display_mode"], "reference-error");
+  ASSERT_TRUE(j["rel_mse"].is_number()) << j.dump();
+  EXPECT_GT(j["rel_mse"].get<double>(), 0.0);
+  // Without a reference the mode is refused: a failed script command (exit 3, FILE:LINE).
+  std::string bad = write_script(dir, "wait-frames 1\ndisplay reference-error\nquit\n");
+  auto b = run_window({"--size", "64x48", "--script", bad});
+  EXPECT_EQ(b.exit_code, 3);
+  EXPECT_NE(b.err.find("script.txt:2: display reference-error: needs --reference"), std::string::npos) << b.err;
+}
+
+/// Mean luminance and its variance over columns [x0, x1) of a screenshot's rows [y0, y1).
+std::pair<double, double> region_stats(const Png& p, int x0, int x1, int y0, int y1) {
+  double s = 0, s2 = 0;
+  int n = 0;
+  for (int y = y0; y < y1; ++y)
+    for (int x = x0; x < x1; ++x, ++n) {
+      const unsigned char* q = &p.rgb[(size_t(y) * p.w + x) * 3];
+      double l = 0.2126 * q[0] + 0.7152 * q[1] + 0.0722 * q[2];
+      s += l;
+      s2 += l * l;
+    }
+  return {s / n, s2 / n - (s / n) * (s / n)};
+}
+
+TEST(Viewer, EqualTimeCompareShowsBothSidesAndTheirStats) {
+  REQUIRE_DISPLAY();
+  TempDir dir;
+  std::string script = write_script(
+      dir, "wait-frames 1\ncompare integrator=nee sampler=independent\nexpect-restart\nwait-frames 4\n"
+           "divider 0.5\nexpect-no-restart\nwait-ms 200\nscreenshot " + dir / "ab.png" +
+           "\ncompare integrator=bsdf\nexpect-restart\nwait-frames 2\nquit\n");
+  auto r = run_window({"--size", "128x96", "--max-depth", "4", "--script", script, "--stats-json", dir / "stats.json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  Png ab(dir / "ab.png");
+  ASSERT_TRUE(ab.ok());
+  // The 128 x 96 render is letterboxed centred in the image area right of the 360-pixel panel column: both halves
+  // of it (clear of the divider line) must show the scene (lit, with structure).
+  const int area_w = ab.w - kPanelPx, x0 = kPanelPx + (area_w - 128) / 2, y0 = (ab.h - 96) / 2;
+  auto left = region_stats(ab, x0 + 4, x0 + 56, y0 + 4, y0 + 92);
+  auto right = region_stats(ab, x0 + 72, x0 + 124, y0 + 4, y0 + 92);
+  EXPECT_GT(left.first, 15.0);
+  EXPECT_GT(right.first, 15.0);
+  EXPECT_GT(left.second, 20.0);
+  EXPECT_GT(right.second, 20.0);
+  auto j = nlohmann::json::parse(read_file(dir / "stats.json"));
+  ASSERT_TRUE(j.contains("compare")) << j.dump();
+  for (const char* side : {"a", "b"}) {
+    EXPECT_GT(j["compare"][side]["spp"].get<int>(), 0) << side;
+    EXPECT_GT(j["compare"][side]["seconds"].get<double>(), 0.0) << side;
+    EXPECT_TRUE(j["compare"][side].contains("rel_mse")) << side;
+  }
+  EXPECT_EQ(j["compare"]["b"]["integrator"], "bsdf");
+  std::string bad = write_script(dir, "compare integrator=path\n");
+  auto b = run_window({"--size", "64x48", "--script", bad});
+  EXPECT_EQ(b.exit_code, 2);
+  EXPECT_NE(b.err.find("script.txt:1:"), std::string::npos) << b.err;
+}
+
+TEST(Viewer, AdaptiveThresholdChangesNeverRestart) {
+  REQUIRE_DISPLAY();
+  TempDir dir;
+  std::string script = write_script(dir,
+                                    "wait-frames 2\nnoise-threshold 0.5 4\nexpect-no-restart\nwait-ms 300\n"
+                                    "noise-threshold 0.05\nexpect-no-restart\ndisplay samples\nwait-ms 300\nquit\n");
+  auto r = run_window({"--size", "64x48", "--max-depth", "4", "--script", script, "--stats-json", dir / "stats.json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  auto j = nlohmann::json::parse(read_file(dir / "stats.json"));
+  EXPECT_EQ(j["epoch"].get<int>(), 1);
+  EXPECT_EQ(j["noise_threshold"].get<double>(), 0.05);
+  std::string bad = write_script(dir, "noise-threshold 1.5\n");
+  auto b = run_window({"--size", "64x48", "--script", bad});
+  EXPECT_EQ(b.exit_code, 2);
+  EXPECT_NE(b.err.find("script.txt:1:"), std::string::npos) << b.err;
+}
+
 TEST(Viewer, WithoutADisplayExitsTwoSuggestingFrames) {
   TempDir dir;
   std::string cmd = "env -u DISPLAY -u WAYLAND_DISPLAY timeout 30 " + shell_quote(PTVIEW_EXE) + " >/dev/null 2>" +

@@ -4,12 +4,17 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <cmath>
 #include <filesystem>
+#include <limits>
 #include <fstream>
 #include <thread>
 
+#include <nlohmann/json.hpp>
+
 #include "scene/builtin_assets.h"
 #include "scene/load.h"
+#include "view/display_mode.h"
 #include "view/script.h"
 #include "view/viewer_state.h"
 
@@ -141,6 +146,113 @@ TEST(Tiers, TierOfAgreesWithApplyForEveryKind) {
   EXPECT_EQ(tier_of(LightEmissionEdit{}), Tier::material);
   EXPECT_EQ(tier_of(LightShapeEdit{}), Tier::light_refit);
   EXPECT_EQ(tier_of(SceneEdit{}), Tier::rebuild);
+  EXPECT_EQ(tier_of(DisplayModeEdit{}), Tier::display);
+  EXPECT_EQ(tier_of(AdaptiveEdit{}), Tier::sampling);
+  EXPECT_EQ(tier_of(CompareEdit{}), Tier::camera);
+  EXPECT_EQ(tier_of(DividerEdit{}), Tier::display);
+}
+
+TEST(Tiers, CompareRestartsBothSidesAndEveryEditRestartsBoth) {
+  ViewerState st;
+  st.init(builtin("cornell"), small_params(), {}, 1);
+  CompareConfig b{IntegratorKind::nee, LightSampling::area, SamplerKind::independent, {}};
+  const int restarts0 = st.restarts;
+  EXPECT_EQ(st.apply(CompareEdit{b}), Tier::camera);
+  ASSERT_TRUE(st.session_b);
+  EXPECT_EQ(st.restarts, restarts0 + 1);
+  EXPECT_EQ(st.session_b->epoch(), 1u);
+  EXPECT_EQ(st.params_b().integrator, IntegratorKind::nee);
+  EXPECT_EQ(st.params_b().sampler, SamplerKind::independent);
+  EXPECT_EQ(st.params_b().width, st.params.width) << "same camera and size";
+  EXPECT_EQ(st.apply(CompareEdit{b}), Tier::none) << "unchanged";
+  EXPECT_EQ(st.apply(DividerEdit{0.25f}), Tier::display);
+  EXPECT_EQ(st.divider, 0.25f);
+  EXPECT_EQ(st.session_b->epoch(), 1u) << "the divider never restarts";
+  Camera cam = *st.scene.camera;
+  cam.eye.x += 0.2f;
+  EXPECT_EQ(st.apply(CameraEdit{cam}), Tier::camera);
+  EXPECT_EQ(st.session_b->epoch(), 2u) << "any edit restarts both sides";
+  Material m = st.scene.materials[0];
+  m.albedo = vec3(0.3f);
+  EXPECT_EQ(st.apply(MaterialEdit{0, m}), Tier::material);
+  EXPECT_EQ(st.session_b->epoch(), 3u);
+  auto j = nlohmann::json::parse(st.stats_json());
+  ASSERT_TRUE(j.contains("compare"));
+  for (const char* side : {"a", "b"})
+    for (const char* key : {"spp", "seconds", "est_rel_mse", "rel_mse"}) EXPECT_TRUE(j["compare"][side].contains(key)) << key;
+  EXPECT_EQ(j["compare"]["b"]["integrator"], "nee");
+  const uint64_t a_epoch = st.session->epoch();
+  EXPECT_EQ(st.apply(CompareEdit{}), Tier::display) << "compare off keeps A's accumulation";
+  EXPECT_EQ(st.session->epoch(), a_epoch);
+  EXPECT_TRUE(st.session_b->paused());
+  EXPECT_FALSE(nlohmann::json::parse(st.stats_json()).contains("compare"));
+  EXPECT_EQ(st.apply(CompareEdit{}), Tier::none);
+}
+
+TEST(Tiers, DisplayModesAndAdaptiveSamplingNeverRestart) {
+  ViewerState st;
+  st.init(builtin("cornell"), small_params(), {}, 1);
+  const uint64_t epoch0 = st.session->epoch();
+  const int restarts0 = st.restarts;
+  for (DisplayMode m : {DisplayMode::error, DisplayMode::samples, DisplayMode::image}) {
+    st.display_dirty = false;
+    EXPECT_EQ(st.apply(DisplayModeEdit{m}), Tier::display);
+    EXPECT_EQ(st.display_mode, m);
+    EXPECT_TRUE(st.display_dirty) << "the shown image must be rebuilt";
+  }
+  EXPECT_EQ(st.apply(DisplayModeEdit{DisplayMode::reference_error}), Tier::none) << "no reference";
+  EXPECT_EQ(st.display_mode, DisplayMode::image);
+  st.reference = Image(32, 24);
+  EXPECT_EQ(st.apply(DisplayModeEdit{DisplayMode::reference_error}), Tier::display);
+
+  AdaptiveParams a;
+  a.noise_threshold = 0.1;
+  EXPECT_EQ(st.apply(AdaptiveEdit{a}), Tier::sampling);
+  EXPECT_EQ(st.apply(AdaptiveEdit{a}), Tier::none) << "unchanged";
+  a.noise_threshold = 0.01;  // lowering resumes stopped pixels in the same epoch
+  EXPECT_EQ(st.apply(AdaptiveEdit{a}), Tier::sampling);
+  EXPECT_EQ(st.adaptive.noise_threshold, 0.01);
+  for (double bad : {-0.5, 1.5, std::numeric_limits<double>::quiet_NaN()}) {
+    AdaptiveParams b = a;
+    b.noise_threshold = bad;
+    EXPECT_EQ(st.apply(AdaptiveEdit{b}), Tier::none) << bad;
+  }
+  EXPECT_EQ(st.adaptive.noise_threshold, 0.01);
+  EXPECT_EQ(st.apply(AdaptiveEdit{AdaptiveParams{}}), Tier::sampling) << "off";
+  EXPECT_EQ(st.restarts, restarts0);
+  EXPECT_EQ(st.session->epoch(), epoch0);
+}
+
+TEST(DisplayModes, HeatmapsShowTheMapsAndFallBackToTheImage) {
+  SessionFrame f;
+  f.image = Image(4, 2);
+  for (float& v : f.image.rgb) v = 0.5f;
+  Image out;
+  HeatLegend legend;
+  EXPECT_FALSE(make_display_image(DisplayMode::error, f, nullptr, out, legend)) << "no map published yet";
+  EXPECT_EQ(out.rgb, f.image.rgb);
+  f.rel_error = Image(4, 2);
+  for (size_t i = 0; i < 8; ++i) f.rel_error.set(int(i % 4), int(i / 4), vec3(float(std::pow(10.0, -3.0 + double(i) / 2))));
+  f.rel_error.set(0, 0, vec3(std::numeric_limits<float>::infinity()));
+  ASSERT_TRUE(make_display_image(DisplayMode::error, f, nullptr, out, legend));
+  EXPECT_TRUE(legend.log);
+  EXPECT_EQ(out.at(0, 0), vec3(0.18f)) << "unknown error is grey";
+  for (int i = 2; i < 7; ++i)  // brighter with larger error up to the top of the scale (1) (the colour map's luminance increases)
+    EXPECT_GT(glm::dot(out.at(i % 4, i / 4), vec3(0.2126f, 0.7152f, 0.0722f)),
+              glm::dot(out.at((i - 1) % 4, (i - 1) / 4), vec3(0.2126f, 0.7152f, 0.0722f))) << i;
+  f.spp_map = Image(4, 2);
+  f.spp_map.set(3, 1, vec3(64.0f));
+  ASSERT_TRUE(make_display_image(DisplayMode::samples, f, nullptr, out, legend));
+  EXPECT_EQ(legend.hi, 64.0);
+  EXPECT_NE(out.at(3, 1), out.at(0, 0));
+  EXPECT_EQ(out.at(1, 0), out.at(0, 0));
+  Image ref = f.image;
+  ref.set(1, 1, vec3(0.25f));  // |0.5 - 0.25| / 0.25 = 1: the top of the scale; elsewhere 0: the bottom
+  ASSERT_TRUE(make_display_image(DisplayMode::reference_error, f, &ref, out, legend));
+  EXPECT_GT(out.at(1, 1).x, 0.9f);  // the top colour (0.99, 1, 0.64) in sRGB
+  EXPECT_LT(out.at(0, 0).x, 1e-3f);
+  Image other(2, 2);
+  EXPECT_FALSE(make_display_image(DisplayMode::reference_error, f, &other, out, legend)) << "size differs";
 }
 
 /// Waits for a frame of the session's current epoch (generous deadline: a hang, not slowness, fails).
@@ -170,6 +282,34 @@ TEST(Tiers, EveryRestartShowsAReducedResolutionPreviewFirst) {
     EXPECT_EQ(st.frame.height, 12);
     EXPECT_EQ(st.frame.frames, 0);
   }
+}
+
+TEST(Tiers, LoweringTheThresholdResumesStoppedPixelsInTheSameEpoch) {
+  ViewerState st;
+  st.init(builtin("cornell"), small_params(), {}, 1);
+  const uint64_t epoch0 = st.session->epoch();
+  AdaptiveParams a;
+  a.noise_threshold = 1.0;  // loose: every pixel stops soon after its minimum
+  a.min_spp = 2;
+  ASSERT_EQ(st.apply(AdaptiveEdit{a}), Tier::sampling);
+  // Wait (deadline 60 s: a hang, not slowness, fails) until adaptive sampling has stopped every pixel.
+  bool converged = false;
+  for (int i = 0; i < 6000 && !converged; ++i) {
+    if (st.session->fetch(st.frame)) converged = st.frame.converged;
+    if (!converged) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  ASSERT_TRUE(converged);
+  const int spp_stopped = st.frame.spp;
+  a.noise_threshold = 0.001;  // strict: the stopped pixels resume
+  ASSERT_EQ(st.apply(AdaptiveEdit{a}), Tier::sampling);
+  bool resumed = false;
+  for (int i = 0; i < 6000 && !resumed; ++i) {
+    if (st.session->fetch(st.frame)) resumed = st.frame.spp > spp_stopped && !st.frame.converged;
+    if (!resumed) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  EXPECT_TRUE(resumed) << "spp stayed at " << spp_stopped;
+  EXPECT_EQ(st.frame.epoch, epoch0) << "no restart";
+  EXPECT_EQ(st.session->epoch(), epoch0);
 }
 
 TEST(Tiers, TheOldSceneStaysLiveWhileALoadRuns) {
@@ -323,6 +463,20 @@ TEST(Script, EveryMalformedFormIsRejectedWithItsLine) {
       {"set-material diffuse roughness=1", "expected albedo"},
       {"tonemap Reinhard", "unknown tonemap"},
       {"exposure", "takes 1 argument"},
+      {"display heat", "unknown display mode"},
+      {"compare", "takes 1 to 4 argument"},
+      {"compare integrator=path", "expected off, integrator="},
+      {"compare sampler", "expected off, integrator="},
+      {"compare adaptive=0", "expected off, integrator="},
+      {"compare adaptive=2", "expected off, integrator="},
+      {"compare off integrator=nee", "expected off, integrator="},
+      {"divider 1.5", "not a fraction from 0 to 1"},
+      {"divider x", "is not a number"},
+      {"display", "takes 1 argument"},
+      {"noise-threshold 2", "from 0 (off) to 1"},
+      {"noise-threshold -0.1", "from 0 (off) to 1"},
+      {"noise-threshold x", "is not a number"},
+      {"noise-threshold 0.1 2.5", "the minimum spp must be an integer"},
   };
   for (const Case& c : cases) {
     auto r = parse_script(std::string("wait-frames 1  # fine\n") + c.line + "\n", "s.txt");
@@ -337,7 +491,8 @@ TEST(Script, EveryCommandOfTheTableParsesItsWellFormedUse) {
       "orbit 10 -5\npan 0.1 0\ndolly 0.8\npick 3 4\nset-material glass ior=1.3 emission=0,0,0\nlight 0\n"
       "light-size 0.5 0.2\nlight-scale 1.1\nlight-position 0 1.9 0\nlight-intensity 2\nexposure -1\ntonemap reinhard\n"
       "load x.obj\nwait-frames 2\nwait-ms 10\nstop-at-spp 8\nscreenshot a.png\nsave a.pfm\nsave-scene a.json\nexpect-restart\n"
-      "expect-no-restart\nquit\n";
+      "expect-no-restart\ndisplay error\nnoise-threshold 0.05 16\n"
+      "compare integrator=nee sampler=independent light-sampling=area adaptive=0.1\ndivider 0.3\nquit\n";
   auto r = parse_script(good, "s.txt");
   ASSERT_TRUE(r.ok()) << r.error();
   EXPECT_EQ(r->size(), script_commands().size());

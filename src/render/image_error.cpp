@@ -1,4 +1,5 @@
-#include "app/app.h"
+#include "render/image_error.h"
+
 #include <cmath>
 
 namespace pt {
