@@ -68,24 +68,7 @@ bool RenderSession::fetch(SessionFrame& out) {
       published_.revision == out.revision)
     return false;
   if (published_.epoch < out.epoch) return false;
-  out.epoch = published_.epoch;
-  out.frames = published_.frames;
-  out.revision = published_.revision;
-  out.preview = published_.preview;
-  out.spp = published_.spp;
-  out.width = published_.width;
-  out.height = published_.height;
-  out.seconds = published_.seconds;
-  out.counters = published_.counters;
-  out.image.width = published_.image.width;
-  out.image.height = published_.image.height;
-  out.image.rgb.assign(published_.image.rgb.begin(), published_.image.rgb.end());
-  out.est_rel_mse = published_.est_rel_mse;
-  out.converged_fraction = published_.converged_fraction;
-  out.converged = published_.converged;
-  out.spp_stats = published_.spp_stats;
-  out.rel_error = published_.rel_error;
-  out.spp_map = published_.spp_map;
+  out = published_;  // every field; the vectors reuse out's storage when it is large enough
   return true;
 }
 
