@@ -6,11 +6,15 @@
 // Var(r) without bias, so its weighted mean is subtracted (the raw value is the rel_mse_raw column).
 // Efficiency = 1 / (rel_mse x seconds). Strategy "defaults" is what ptview runs with no strategy flags.
 //   build/bench/bench_time_vs_error [--size 128] [--max-spp 256] [--ref-spp 4096] [--cache DIR] [--csv FILE]
-//                                   [--scenes a,b,...] [--max-depth 64] [--threads 0]
+//                                   [--scenes a,b,...] [--max-depth 64] [--threads 0] [--clock wall|cpu]
+//                                   [--strategies defaults,bsdf,...]
+// --clock cpu counts process CPU seconds divided by the thread count instead of wall seconds: a proxy for a quiet
+// machine's wall time when other work shares the cores (for tuning; published figures use wall time).
 // Scene cornell36 (only when named in --scenes): bench/data/cornell36.obj with its ceiling light emitting
 // (17, 12, 4), no background (the issue-11 set-up: 256x256, --max-depth 8, --threads 2, see `make bench-cornell36`).
 // Then: python3 bench/plot_time_vs_error.py FILE.csv docs/img
 #include <chrono>
+#include <ctime>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -41,7 +45,7 @@ struct Strategy {
   LightSampling light_sampling;
 };
 const Strategy kStrategies[] = {
-    {"defaults", IntegratorKind::automatic, LightSampling::solid_angle},
+    {"defaults", RenderParams{}.integrator, RenderParams{}.light_sampling},
     {"assignment(nee+area)", IntegratorKind::nee, LightSampling::area},
     {"nee+solid-angle", IntegratorKind::nee, LightSampling::solid_angle},
     {"mis+solid-angle", IntegratorKind::mis, LightSampling::solid_angle},
@@ -285,6 +289,14 @@ Result<Scene> make_cornell36_scene() {
   return s;
 }
 
+/// Seconds on the chosen clock: wall, or process CPU time / threads (see --clock).
+double clock_seconds(bool cpu, int threads) {
+  if (!cpu) return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+  timespec ts{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return (double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec)) / double(threads);
+}
+
 /// Mean over pixels and channels of (a - b)^2 / 4 / (r^2 + 0.01): the reference noise in rel_mse units.
 double reference_noise(const Image& a, const Image& b, const Image& r) {
   double sum = 0.0;
@@ -300,6 +312,8 @@ int main(int argc, char** argv) {
   std::string cache = std::string(std::getenv("HOME") ? std::getenv("HOME") : "/tmp") + "/.cache/ptview";
   std::string csv_path = "time_vs_error.csv";
   std::string only;
+  bool cpu_clock = false;
+  std::string only_strategies;
   // Convergence sections: "estimator", "adaptive", "both", "only" (both, skipping the strategy curves) or "none".
   std::string convergence = "both";
   int conv_size = 32, conv_ref_spp = 4096;
@@ -315,6 +329,8 @@ int main(int argc, char** argv) {
     else if (!std::strcmp(argv[i], "--conv-ref-spp")) conv_ref_spp = std::atoi(argv[i + 1]);
     else if (!std::strcmp(argv[i], "--max-depth")) max_depth = std::atoi(argv[i + 1]);
     else if (!std::strcmp(argv[i], "--threads")) threads = std::atoi(argv[i + 1]);
+    else if (!std::strcmp(argv[i], "--clock")) cpu_clock = !std::strcmp(argv[i + 1], "cpu");
+    else if (!std::strcmp(argv[i], "--strategies")) only_strategies = "," + std::string(argv[i + 1]) + ",";
   }
   std::vector<std::pair<std::string, Scene>> scenes;
   for (const char* name : {"cornell", "cornell-glass", "cornell-mirror", "cornell-large-mesh"}) {
@@ -383,6 +399,8 @@ int main(int argc, char** argv) {
     }
     for (const Strategy& st : kStrategies)
       for (auto [sampler_name, sampler] : kSamplers) {
+        if (!only_strategies.empty() && only_strategies.find("," + std::string(st.name) + ",") == std::string::npos)
+          continue;
         RenderParams p = base;
         p.integrator = st.integrator;
         p.light_sampling = st.light_sampling;
@@ -393,9 +411,9 @@ int main(int argc, char** argv) {
         double seconds = 0;
         int next_report = 1;
         for (int spp = 1; spp <= max_spp; ++spp) {
-          auto t0 = std::chrono::steady_clock::now();
+          double t0 = clock_seconds(cpu_clock, renderer.thread_count());
           renderer.render_frame(rs, p, film, uint32_t(spp - 1), c);
-          seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+          seconds += clock_seconds(cpu_clock, renderer.thread_count()) - t0;
           if (spp != next_report) continue;
           next_report *= 2;
           ImageError e = compare_images(film.resolve(), reference);

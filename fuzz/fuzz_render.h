@@ -84,7 +84,7 @@ inline std::string check_render_input(std::string_view text, const std::filesyst
   RenderScene rs = make_render_scene(scene);
   static Renderer renderer(1);
   for (IntegratorKind k : {IntegratorKind::mis, IntegratorKind::nee, IntegratorKind::bsdf})
-    for (LightSampling ls : {LightSampling::area, LightSampling::solid_angle}) {
+    for (LightSampling ls : {LightSampling::area, LightSampling::solid_angle, LightSampling::automatic}) {
       RenderParams p;
       p.width = p.height = kRenderSize;
       p.spp_per_frame = kRenderSpp;

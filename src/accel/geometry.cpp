@@ -10,15 +10,13 @@ namespace pt {
 
 namespace {
 
-void fill_spheres(TraceGeometry& g, std::span<const TraceSphere> spheres) {
+void fill_spheres(TraceGeometry& g, std::span<const SphereShape> spheres) {
   g.spheres.resize(g.sphere_bvh.prim_indices.size());
   for (size_t k = 0; k < g.spheres.size(); ++k) {
     const uint32_t i = g.sphere_bvh.prim_indices[k];
     g.spheres[k] = {spheres[i].center, spheres[i].radius, g.triangle_count + i};
   }
 }
-
-AABB sphere_box(const TraceSphere& s) { return {s.center - vec3(s.radius), s.center + vec3(s.radius)}; }
 
 void update_bounds(TraceGeometry& g) {
   g.bounds_all = bvh8_bounds(g.triangles);
@@ -52,7 +50,7 @@ BvhBuildOptions triangle_build_options(const BvhBuildOptions& options) {
   return o;
 }
 
-TraceGeometry make_trace_geometry(std::span<const vec3> triangle_vertices, std::span<const TraceSphere> spheres,
+TraceGeometry make_trace_geometry(std::span<const vec3> triangle_vertices, std::span<const SphereShape> spheres,
                                   const BvhBuildOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   TraceGeometry g;
@@ -82,7 +80,7 @@ TraceGeometry make_trace_geometry(std::span<const vec3> triangle_vertices, std::
     std::vector<AABB> boxes(spheres.size());
     std::vector<vec3> centers(spheres.size());
     for (size_t i = 0; i < spheres.size(); ++i) {
-      boxes[i] = sphere_box(spheres[i]);
+      boxes[i] = spheres[i].bounds();
       centers[i] = spheres[i].center;
     }
     // The sphere test runs in double precision, far costlier than a box: one sphere per leaf.
@@ -100,7 +98,7 @@ TraceGeometry make_trace_geometry(std::span<const vec3> triangle_vertices, std::
 }
 
 void refit_trace_geometry(TraceGeometry& g, std::span<const vec3> triangle_vertices,
-                          std::span<const TraceSphere> spheres) {
+                          std::span<const SphereShape> spheres) {
   refit_bvh8(g.triangles, triangle_vertices);
   fill_spheres(g, spheres);
   // Children always come after their parent in `nodes`, so a reverse sweep sees children first.
@@ -109,7 +107,7 @@ void refit_trace_geometry(TraceGeometry& g, std::span<const vec3> triangle_verti
     AABB b;
     if (node.is_leaf()) {
       for (uint32_t k = node.first; k < node.first + node.count; ++k)
-        b.extend(finite_or_empty(sphere_box({g.spheres[k].center, g.spheres[k].radius})));
+        b.extend(finite_or_empty(g.spheres[k].bounds()));
     } else {
       b = merge(g.sphere_bvh.nodes[node.first].bounds, g.sphere_bvh.nodes[node.first + 1].bounds);
     }

@@ -8,6 +8,7 @@
 #include "accel/bvh.h"
 #include "accel/bvh8.h"
 #include "accel/triangle.h"
+#include "core/sphere.h"
 
 namespace pt {
 
@@ -16,11 +17,6 @@ struct Hit {
   float t = kInfinity;
   uint32_t prim = 0;  ///< primitive id (see TraceGeometry)
   float b1 = 0, b2 = 0;  ///< barycentrics of vertices 1 and 2 for triangles
-};
-
-struct TraceSphere {
-  vec3 center;
-  float radius;
 };
 
 /// Figures about the acceleration structure, for stats output and benchmarks.
@@ -33,10 +29,8 @@ struct TraceStats {
 };
 
 struct TraceGeometry {
-  struct Sphere {  ///< in sphere-BVH leaf order
-    vec3 center;
-    float radius;
-    uint32_t prim;
+  struct Sphere : SphereShape {  ///< in sphere-BVH leaf order
+    uint32_t prim = 0;
   };
   uint32_t triangle_count = 0;
   Bvh8 triangles;               ///< wide BVH over the triangles
@@ -55,13 +49,13 @@ BvhBuildOptions triangle_build_options(const BvhBuildOptions& options);
 
 /// Builds the BVHs over `triangle_vertices` (vertex triples) and `spheres`. Degenerate input is allowed (it just
 /// never hits). The triangle build runs on up to `options.threads` threads.
-TraceGeometry make_trace_geometry(std::span<const vec3> triangle_vertices, std::span<const TraceSphere> spheres,
+TraceGeometry make_trace_geometry(std::span<const vec3> triangle_vertices, std::span<const SphereShape> spheres,
                                   const BvhBuildOptions& options = {});
 
 /// Updates primitive data and node bounds after vertices or spheres moved, keeping the tree topology (a refit:
 /// O(n), no rebuild). Used for interactive edits such as resizing a light; quality degrades only if things move far.
 void refit_trace_geometry(TraceGeometry& geometry, std::span<const vec3> triangle_vertices,
-                          std::span<const TraceSphere> spheres);
+                          std::span<const SphereShape> spheres);
 
 /// Closest hit in (0, ray.tmax); on a hit shrinks ray.tmax to it and fills `hit`.
 bool intersect_closest(const TraceGeometry& geometry, Ray& ray, Hit& hit);

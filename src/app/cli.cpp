@@ -48,7 +48,9 @@ ParseOutcome parse_command_line(int argc, const char* const* argv) {
   app.set_version_flag("--version", "ptview 0.1");
   // A repeated option takes its last value, so scripts can append overrides.
   app.option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
-  std::string size = "512x512", integrator = "auto", light_sampling = "solid-angle";
+  // Defaults come from RenderParams and the name tables: one place for each.
+  std::string size = "512x512", integrator = name_of(o.render.integrator),
+              light_sampling = name_of(o.render.light_sampling), sampler = name_of(o.render.sampler);
   int frames = 0;
   double time_limit = 0;
   std::string seed = "0";
@@ -60,9 +62,9 @@ ParseOutcome parse_command_line(int argc, const char* const* argv) {
   app.add_option("--threads", o.render.threads, "Worker threads (default: all cores)");
   auto* out_opt = app.add_option("--out", o.out, "Output image: .png (tonemapped sRGB), .pfm or .exr (linear mean)");
   app.add_option("--max-depth", o.render.max_depth, "Maximum path depth, pbrt convention (default 64)");
-  app.add_option("--integrator", integrator, "mis (default), nee or bsdf");
-  app.add_option("--light-sampling", light_sampling, "area or solid-angle (default)");
-  std::string sampler = "sobol";
+  app.add_option("--integrator", integrator, "auto (default: nee or mis, chosen per scene), mis, nee or bsdf");
+  app.add_option("--light-sampling", light_sampling,
+                 "auto (default: solid angle where it pays, per point), solid-angle or area");
   app.add_option("--sampler", sampler, "sobol (default: Owen-scrambled Sobol) or independent");
   app.add_option("--stats-json", o.stats_json, "Write run statistics as JSON");
   app.add_option("--reference", o.reference, "Reference image (.pfm/.exr) for --error-csv; viewer: true relMSE and the reference-error display");

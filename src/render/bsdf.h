@@ -58,7 +58,7 @@ struct ShadingContext {
   bool entering = true;  ///< wo is on the outside (the geometric normal's front side); for glass
 };
 
-inline bool is_delta(const Material& m) { return m.type != MaterialType::diffuse; }
+inline bool is_delta(const Material& m) { return info_of(m.type).delta; }
 
 /// f(wo, wi) |cos theta_i| for a non-delta material (diffuse), 0 when wi is below the geometric surface.
 inline vec3 eval_bsdf_cos(const Material& m, const ShadingContext& sc, vec3 wi) {

@@ -6,11 +6,28 @@ namespace pt {
 
 namespace {
 
+/// How a non-delta vertex samples lights: the requested mode and, for automatic, the area-density spread from which
+/// a rectangle is sampled by solid angle (light.h, kAutoMinSpread). The first non-delta vertex of a path (the
+/// surface the camera sees, directly or through mirrors and glass) takes kAutoMinSpread; deeper vertices ask for a
+/// larger spread. Why: the first vertex's direct light reaches the image unattenuated, so the lower variance of
+/// solid-angle sampling shows; deeper vertices are weighted by a path throughput whose own variance hides most of
+/// the difference, and there the cheaper area sampling wins per second except close to a light (bench-error,
+/// issue 11). The choice depends only on the path so far and light_pdf is asked with the same one: unbiased.
+struct VertexLightSampling {
+  LightSampling mode = LightSampling::area;
+  float min_spread = kAutoMinSpread;
+
+  static VertexLightSampling at(LightSampling requested, bool first_non_delta) {
+    return {requested, first_non_delta ? kAutoMinSpread : kAutoMinSpreadDeep};
+  }
+};
+
 /// The state carried from one path vertex to the next for MIS of a later emitter hit.
 struct PrevVertex {
   vec3 p{0.0f};
   float bsdf_pdf = 0.0f;
   bool delta = true;  ///< the camera counts as a delta "bounce": emission seen directly is always added
+  VertexLightSampling light_sampling;  ///< how that vertex sampled lights, for light_pdf
 };
 
 /// The random numbers one path vertex consumes, drawn together so every vertex uses the same sampler dimensions
@@ -38,7 +55,7 @@ struct VertexSamples {
   }
 };
 
-vec3 direct_light(const RenderScene& scene, const RenderParams& params, const SurfaceHit& sh,
+vec3 direct_light(const RenderScene& scene, const RenderParams& params, VertexLightSampling mode, const SurfaceHit& sh,
                   const ShadingContext& sc, const Material& m, const VertexSamples& vs, RenderCounters& c) {
   const float u_light = vs.light_choice;
   const vec2 u = vs.light_point;
@@ -46,7 +63,7 @@ vec3 direct_light(const RenderScene& scene, const RenderParams& params, const Su
   size_t li = scene.lights.power.sample(u_light, &pmf);
   const Light& light = scene.lights.lights[li];
   LightSample ls;
-  if (!sample_light(light, sh.sp.p, u, params.light_sampling, ls) || !(ls.pdf > 0.0f)) {
+  if (!sample_light(light, sh.sp.p, u, mode.mode, ls, mode.min_spread) || !(ls.pdf > 0.0f)) {
     ++c.shadow_skipped_backfacing;
     return vec3(0.0f);
   }
@@ -75,6 +92,7 @@ vec3 trace_path_impl(const RenderScene& scene, const RenderParams& params, Ray r
   vec3 beta(1.0f);
   float eta_scale = 1.0f;
   PrevVertex prev;
+  bool first_non_delta = true;
   const bool sample_lights = params.integrator != IntegratorKind::bsdf && !scene.lights.empty();
   ++c.camera_rays;
   for (int depth = 0;; ++depth) {
@@ -96,7 +114,8 @@ vec3 trace_path_impl(const RenderScene& scene, const RenderParams& params, Ray r
       } else if (params.integrator == IntegratorKind::mis) {
         const Light& light = scene.lights.lights[size_t(sh.light)];
         float lpdf = scene.lights.power.pmf(size_t(sh.light)) *
-                     light_pdf(light, prev.p, ray.dir, hit.t, sh.sp.ng, params.light_sampling);
+                     light_pdf(light, prev.p, ray.dir, hit.t, sh.sp.ng, prev.light_sampling.mode,
+                               prev.light_sampling.min_spread);
         radiance += beta * m.emission * power_heuristic(prev.bsdf_pdf, lpdf);
       }
       // nee: this emitter was already counted by light sampling at the previous vertex.
@@ -113,9 +132,12 @@ vec3 trace_path_impl(const RenderScene& scene, const RenderParams& params, Ray r
     sc.n = front ? sh.ns : -sh.ns;
 
     const VertexSamples vs = VertexSamples::draw(sampler);
+    const bool delta_vertex = kDelta && is_delta(m);
+    const VertexLightSampling mode = VertexLightSampling::at(params.light_sampling, first_non_delta);
+    if (!delta_vertex) first_non_delta = false;
     if (sample_lights) {
-      if (kDelta && is_delta(m)) ++c.light_sampling_skipped_specular;
-      else radiance += beta * direct_light(scene, params, sh, sc, m, vs, c);
+      if (delta_vertex) ++c.light_sampling_skipped_specular;
+      else radiance += beta * direct_light(scene, params, mode, sh, sc, m, vs, c);
     }
 
     BsdfSample bs;
@@ -126,7 +148,7 @@ vec3 trace_path_impl(const RenderScene& scene, const RenderParams& params, Ray r
     }
     beta *= bs.weight;
     eta_scale *= bs.eta_scale;
-    prev = {sh.sp.p, bs.pdf, bs.delta};
+    prev = {sh.sp.p, bs.pdf, bs.delta, mode};
     ray = spawn_ray(sh.sp, bs.wi);
     ++c.bounce_rays;
 
@@ -148,7 +170,7 @@ vec3 trace_path_impl(const RenderScene& scene, const RenderParams& params, Ray r
 
 IntegratorKind resolve_integrator(const RenderScene& scene, IntegratorKind kind, LightSampling light_sampling) {
   if (kind != IntegratorKind::automatic) return kind;
-  if (light_sampling != LightSampling::solid_angle) return IntegratorKind::mis;
+  if (light_sampling == LightSampling::area) return IntegratorKind::mis;
   for (const Light& l : scene.lights.lights)
     if (!(l.kind == LightKind::sphere || (l.kind == LightKind::rect && l.rectangular))) return IntegratorKind::mis;
   return IntegratorKind::nee;
@@ -158,7 +180,7 @@ vec3 trace_path(const RenderScene& scene, const RenderParams& params_in, Ray ray
                 RenderCounters& c) {
   RenderParams params = params_in;
   params.integrator = resolve_integrator(scene, params.integrator, params.light_sampling);
-  const bool delta = scene.features.has_glass || scene.features.has_specular || params.force_generic_kernel;
+  const bool delta = scene.features.has_delta || params.force_generic_kernel;
   const bool background = scene.features.has_background || params.force_generic_kernel;
   if (delta) {
     return background ? trace_path_impl<true, true>(scene, params, ray, sampler, c)
@@ -170,7 +192,7 @@ vec3 trace_path(const RenderScene& scene, const RenderParams& params_in, Ray ray
 
 const char* kernel_name(const RenderScene& scene, const RenderParams& params) {
   if (params.force_generic_kernel) return "generic";
-  bool delta = scene.features.has_glass || scene.features.has_specular;
+  bool delta = scene.features.has_delta;
   if (delta) return scene.features.has_background ? "all-materials+background" : "all-materials";
   return scene.features.has_background ? "diffuse-only+background" : "diffuse-only";
 }

@@ -14,8 +14,9 @@ vec3 trace_path(const RenderScene& scene, const RenderParams& params, Ray ray, P
                 RenderCounters& counters);
 
 /// The integrator `kind` stands for in `scene`: itself, or for automatic, nee when every light is sampled in
-/// solid angle (spheres by their cone, rectangles by spherical rectangles: params.light_sampling is solid_angle)
-/// and mis otherwise. Why: the scenes have only diffuse, mirror and glass surfaces; mirror and glass cannot be
+/// solid angle (spheres by their cone, rectangles by spherical rectangles: params.light_sampling is solid_angle or
+/// automatic, whose area-sampled receivers see the light small, where area and solid-angle densities agree) and
+/// mis otherwise. Why: the scenes have only diffuse, mirror and glass surfaces; mirror and glass cannot be
 /// light-sampled, so both strategies count emission after them in full, and at a diffuse vertex a solid-angle light
 /// sample already has a density close to the integrand, so MIS only adds the BSDF-side light_pdf evaluation and
 /// weights that move variance onto cosine-sampled hits (bench-error, issue 11: nee beat mis on every Cornell

@@ -11,7 +11,7 @@ inline constexpr EnumName<IntegratorKind> kIntegratorNames[] = {
     {IntegratorKind::automatic, "auto"}, {IntegratorKind::mis, "mis"}, {IntegratorKind::nee, "nee"},
     {IntegratorKind::bsdf, "bsdf"}};
 inline constexpr EnumName<LightSampling> kLightSamplingNames[] = {
-    {LightSampling::solid_angle, "solid-angle"}, {LightSampling::area, "area"}};
+    {LightSampling::automatic, "auto"}, {LightSampling::solid_angle, "solid-angle"}, {LightSampling::area, "area"}};
 inline constexpr EnumName<SamplerKind> kSamplerNames[] = {
     {SamplerKind::sobol, "sobol"}, {SamplerKind::independent, "independent"}};
 inline constexpr EnumName<Tonemap> kTonemapNames[] = {

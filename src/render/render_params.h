@@ -16,7 +16,7 @@ struct RenderParams {
   int spp_per_frame = 1;
   int max_depth = 64;  ///< pbrt's convention: 0 = emission seen directly, 1 = plus direct lighting, ...
   IntegratorKind integrator = IntegratorKind::automatic;
-  LightSampling light_sampling = LightSampling::solid_angle;
+  LightSampling light_sampling = LightSampling::automatic;
   SamplerKind sampler = SamplerKind::sobol;
   uint64_t seed = 0;
   int threads = 0;     ///< 0 = all cores

@@ -41,8 +41,8 @@ void rebuild_lights(RenderScene& rs) {
   rs.features = {};
   rs.features.has_background = !is_black(rs.background);
   for (const Material& m : rs.materials) {
-    rs.features.has_glass |= m.type == MaterialType::glass;
-    rs.features.has_specular |= m.type == MaterialType::specular;
+    rs.features.has_delta |= info_of(m.type).delta;
+    rs.features.material_types |= 1u << unsigned(m.type);
   }
   auto add = [&](const Light& l) -> int32_t {
     if (!(light_power(l) > 0.0f)) return -1;  // never sampled; BSDF hits still see its emission
@@ -205,7 +205,7 @@ SurfaceHit make_surface_hit(const RenderScene& rs, const Ray& ray, const Hit& hi
     sh.light = rs.tri_light[t];
   } else {
     const uint32_t s = hit.prim - g.triangle_count();
-    const TraceSphere& sphere = g.spheres[s];
+    const SphereShape& sphere = g.spheres[s];
     vec3 p = ray.org + hit.t * ray.dir;
     vec3 d = p - sphere.center;
     float len = glm::length(d);

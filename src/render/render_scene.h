@@ -21,9 +21,9 @@ struct SurfaceHit {
 
 /// Scene features the integrator specializes on.
 struct SceneFeatures {
-  bool has_glass = false;
-  bool has_specular = false;
+  bool has_delta = false;       ///< some material scatters into delta directions only (info_of(type).delta)
   bool has_background = false;
+  uint32_t material_types = 0;  ///< bit (1 << int(type)) for every material type present, for the stats
 };
 
 /// The immutable, heavy part of a render scene: flattened primitives and the BVH. Shared (not copied) between
@@ -38,7 +38,7 @@ struct RenderGeometry {
   std::vector<vec3> tri_normals;
   std::vector<uint32_t> tri_material;
   uint32_t quad_first_triangle = 0;  ///< triangles from here on come in pairs, one pair per scene quad
-  std::vector<TraceSphere> spheres;
+  std::vector<SphereShape> spheres;
   std::vector<uint32_t> sphere_material;
   TraceGeometry trace;
   size_t degenerate_triangles = 0;

@@ -44,9 +44,10 @@ nlohmann::json make_stats_json(const RenderParams& params, const Scene& scene, c
   j["skipped"] = nlohmann::json::object();
   for (const auto& [name, count] : skipped_work(c)) j["skipped"][name] = count;
   j["kernel"] = kernel_name(rs, params);
-  j["features"] = {{"glass", rs.features.has_glass},
-                   {"specular", rs.features.has_specular},
-                   {"background", rs.features.has_background}};
+  j["features"] = nlohmann::json::object();
+  for (const EnumName<MaterialType>& t : kMaterialTypeNames)
+    j["features"][t.name] = (rs.features.material_types >> unsigned(t.value) & 1u) != 0;
+  j["features"]["background"] = rs.features.has_background;
   j["warnings"] = scene.warnings;
   const ConvergenceSummary& cv = run.convergence;
   j["est_rel_mse"] = std::isfinite(cv.est_rel_mse) ? nlohmann::json(cv.est_rel_mse) : nlohmann::json(nullptr);

@@ -94,7 +94,7 @@ std::optional<Error> save_scene_json(const Scene& s, const std::vector<Material>
   for (uint32_t m = 0; m < s.materials.size(); ++m) {
     const Material& mat = s.materials[m];
     ordered o = {{"type", name_of(mat.type)}, {"albedo", vec(mat.albedo)}};
-    if (mat.type == MaterialType::glass) o["ior"] = mat.ior;
+    if (info_of(mat.type).uses_ior) o["ior"] = mat.ior;
     if (mat.emissive()) o["emission"] = vec(mat.emission);
     materials[material_name(s, m)] = o;
   }

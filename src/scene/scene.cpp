@@ -63,10 +63,7 @@ AABB Scene::bounds() const {
   for (const Mesh& m : meshes)
     for (uvec3 t : m.indices)
       for (int k = 0; k < 3; ++k) b.extend(m.world_position(t[k]));
-  for (const Sphere& s : spheres) {
-    b.extend(s.center - vec3(s.radius));
-    b.extend(s.center + vec3(s.radius));
-  }
+  for (const Sphere& s : spheres) b.extend(s.bounds());
   for (const Quad& q : quads) {
     b.extend(q.corner);
     b.extend(q.corner + q.edge1);

@@ -10,6 +10,7 @@
 #include "core/aabb.h"
 #include "core/math.h"
 #include "core/name_table.h"
+#include "core/sphere.h"
 
 namespace pt {
 
@@ -18,6 +19,27 @@ enum class MaterialType : uint8_t { diffuse, specular, glass };
 inline constexpr EnumName<MaterialType> kMaterialTypeNames[] = {
     {MaterialType::diffuse, "diffuse"}, {MaterialType::specular, "specular"}, {MaterialType::glass, "glass"}};
 inline const char* name_of(MaterialType v) { return name_of<MaterialType>(kMaterialTypeNames, v); }
+
+/// What a material type reads of Material's parameters, and whether it scatters only into delta directions (then a
+/// light cannot be sampled at it and the integrator needs its all-materials kernel). With the name table above,
+/// this is the only place outside the type's BSDF (render/bsdf.*) that a new material type is added to: the
+/// viewer's panel and edit normalization, the scene writer and the kernel choice all read it. (Importers that map a
+/// foreign format's materials, MTL and glTF, choose a type only if that format can express it.)
+struct MaterialTypeInfo {
+  MaterialType type;
+  bool uses_albedo;  ///< albedo is the type's colour (else it is ignored and kept at 1)
+  bool uses_ior;     ///< ior is read
+  bool delta;        ///< scatters into delta directions only
+};
+inline constexpr MaterialTypeInfo kMaterialTypeInfo[] = {
+    {MaterialType::diffuse, true, false, false},
+    {MaterialType::specular, true, false, true},
+    {MaterialType::glass, false, true, true}};
+constexpr const MaterialTypeInfo& info_of(MaterialType t) {
+  for (const MaterialTypeInfo& i : kMaterialTypeInfo)
+    if (i.type == t) return i;
+  return kMaterialTypeInfo[0];
+}
 
 /// A surface material. Every surface scatters on both sides; emission leaves the front side only.
 struct Material {
@@ -37,9 +59,7 @@ struct Camera {
   float fov_deg = 40.0f;  ///< vertical field of view
 };
 
-struct Sphere {
-  vec3 center{0.0f};
-  float radius = 1.0f;
+struct Sphere : SphereShape {
   uint32_t material = 0;
 };
 

@@ -51,7 +51,7 @@ struct AdaptiveEdit {
 /// The second configuration of an equal-time A/B compare: what differs from A (the current parameters).
 struct CompareConfig {
   IntegratorKind integrator = IntegratorKind::mis;
-  LightSampling light_sampling = LightSampling::solid_angle;
+  LightSampling light_sampling = LightSampling::automatic;
   SamplerKind sampler = SamplerKind::sobol;
   AdaptiveParams adaptive;
   bool operator==(const CompareConfig& o) const {

@@ -123,8 +123,8 @@ void material_panel(ViewerState& st) {
   if (st.selected_material < 0) return;
   Material m = st.scene.materials[size_t(st.selected_material)];
   bool changed = name_combo<MaterialType>("type", kMaterialTypeNames, m.type);
-  if (m.type != MaterialType::glass) changed |= ImGui::ColorEdit3("albedo", &m.albedo.x);
-  else changed |= ImGui::SliderFloat("ior", &m.ior, 1.0f, 3.0f);
+  if (info_of(m.type).uses_albedo) changed |= ImGui::ColorEdit3("albedo", &m.albedo.x);
+  if (info_of(m.type).uses_ior) changed |= ImGui::SliderFloat("ior", &m.ior, 1.0f, 3.0f);
   changed |= ImGui::ColorEdit3("emission", &m.emission.x, ImGuiColorEditFlags_HDR | ImGuiColorEditFlags_Float);
   if (changed) st.apply(MaterialEdit{st.selected_material, m});
 }
@@ -316,10 +316,9 @@ void stats_panel(const ViewerState& st) {
   convergence_stats(st);
   compare_stats(st);
   ImGui::Text("non-finite samples %llu", (unsigned long long)f.counters.nonfinite_samples);
-  std::vector<double> lat = st.restart_latency_ms;
-  std::sort(lat.begin(), lat.end());
-  if (!lat.empty())
-    ImGui::Text("restart latency p50 %.1f ms  p95 %.1f ms", lat[lat.size() / 2], lat[std::min(lat.size() - 1, lat.size() * 95 / 100)]);
+  if (!st.restart_latency_ms.empty())
+    ImGui::Text("restart latency p50 %.1f ms  p95 %.1f ms", percentile(st.restart_latency_ms, 0.5),
+                percentile(st.restart_latency_ms, 0.95));
   ImGui::Text("UI %.0f fps", ImGui::GetIO().Framerate);
 }
 

@@ -17,7 +17,7 @@ namespace {
 
 /// The one normalization of an edited material (panel and script alike).
 Material normalized(Material m) {
-  m.albedo = m.type == MaterialType::glass ? vec3(1.0f) : glm::clamp(m.albedo, vec3(0.0f), vec3(1.0f));
+  m.albedo = info_of(m.type).uses_albedo ? glm::clamp(m.albedo, vec3(0.0f), vec3(1.0f)) : vec3(1.0f);
   m.emission = glm::max(m.emission, vec3(0.0f));
   if (!is_finite(m.emission)) m.emission = vec3(0.0f);
   if (!(m.ior >= 1.0f) || !std::isfinite(m.ior)) m.ior = 1.0f;
@@ -29,14 +29,14 @@ bool valid_camera(const Camera& c) {
          c.fov_deg > 0.0f && c.fov_deg < 180.0f;
 }
 
+}  // namespace
+
 double percentile(std::vector<double> v, double q) {
   if (v.empty()) return 0.0;
   std::sort(v.begin(), v.end());
   size_t i = std::min(v.size() - 1, size_t(q * double(v.size() - 1) + 0.5));
   return v[i];
 }
-
-}  // namespace
 
 void ViewerState::init(Scene s, const RenderParams& p, const DisplaySettings& d, int threads) {
   params = p;

@@ -132,4 +132,8 @@ struct ViewerState {
   Tier commit(Tier tier);
 };
 
+/// The q-quantile (0..1) of `v` by the nearest rank on the sorted values; 0 for an empty list. The Stats panel and
+/// the stats JSON's restart_latency_ms both use it.
+double percentile(std::vector<double> v, double q);
+
 }  // namespace pt

@@ -19,7 +19,7 @@ namespace {
 
 struct Soup {
   std::vector<vec3> tris;  ///< three vertices per triangle
-  std::vector<TraceSphere> spheres;
+  std::vector<SphereShape> spheres;
   uint32_t tri_count() const { return uint32_t(tris.size() / 3); }
   uint32_t prim_count() const { return tri_count() + uint32_t(spheres.size()); }
 };
@@ -85,7 +85,7 @@ std::vector<AABB> prim_boxes(const Soup& s) {
     for (int k = 0; k < 3; ++k) b.extend(s.tris[3 * i + k]);
     boxes.push_back(b);
   }
-  for (const TraceSphere& sp : s.spheres) boxes.push_back({sp.center - vec3(sp.radius), sp.center + vec3(sp.radius)});
+  for (const SphereShape& sp : s.spheres) boxes.push_back(sp.bounds());
   return boxes;
 }
 
@@ -117,7 +117,7 @@ struct BruteForce {
       best = {th.t, i, th.b1, th.b2};
       return true;
     }
-    const TraceSphere& sp = s.spheres[i - s.tri_count()];
+    const SphereShape& sp = s.spheres[i - s.tri_count()];
     float t = intersect_sphere(ray, sp.center, sp.radius, best.t);
     if (!(t < best.t)) return false;
     best = {t, i, 0.0f, 0.0f};

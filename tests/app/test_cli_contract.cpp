@@ -235,7 +235,7 @@ TEST(CliContract, OptionsWithValidValuesChangeWhatTheyClaimAndConverge) {
   auto [base, base_stats] = run("base", {"--integrator", "mis"});
   EXPECT_EQ(base_stats["integrator"], "mis");
   EXPECT_EQ(base_stats["sampler"], "sobol");
-  EXPECT_EQ(base_stats["light_sampling"], "solid-angle");
+  EXPECT_EQ(base_stats["light_sampling"], "auto");
   struct Variant {
     std::string name;
     std::vector<std::string> args;

@@ -10,6 +10,7 @@
 #include <filesystem>
 
 #include "render/analytic.h"
+#include "render/names.h"
 #include "render/renderer.h"
 #include "scene/gltf_fixture.h"
 #include "scene/load.h"
@@ -49,11 +50,10 @@ Estimate estimate(const RenderScene& rs, const RenderParams& params, const Ray& 
 
 const IntegratorKind kIntegrators[] = {IntegratorKind::mis, IntegratorKind::nee, IntegratorKind::bsdf,
                                       IntegratorKind::automatic};
-const LightSampling kModes[] = {LightSampling::area, LightSampling::solid_angle};
+const LightSampling kModes[] = {LightSampling::area, LightSampling::solid_angle, LightSampling::automatic};
 
 std::string config_name(IntegratorKind k, LightSampling m) {
-  const char* names[] = {"mis", "nee", "bsdf", "auto"};
-  return std::string(names[int(k)]) + (m == LightSampling::area ? "/area" : "/solid-angle");
+  return std::string(name_of(k)) + "/" + name_of(m);
 }
 
 

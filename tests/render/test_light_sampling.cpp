@@ -117,6 +117,56 @@ TEST(LightSampling, SphereConeSamplingIsUniformInSolidAngle) {
   }
 }
 
+// LightSampling::automatic takes the spherical rectangle exactly where area sampling's solid-angle density spreads
+// by at least the asked factor over the rectangle (light.h, kAutoMinSpread): the spread is recomputed here by brute
+// force in double over a grid on the rectangle, and which sampling was taken is read off the returned pdfs (the
+// spherical rectangle's is 1 / solid angle for every sample; two samples of area sampling at different points almost
+// never both equal it). Reference points come from a box near the light and a wide one; both sides of the switch
+// must be seen, at both thresholds.
+TEST(LightSampling, AutomaticTakesSolidAngleWhereTheAreaDensitySpreads) {
+  const Light l = make_rect_light(vec3(-0.5f, 1, -0.4f), vec3(1, 0, 0), vec3(0, 0, 0.8f), vec3(1));
+  auto spread = [&](vec3 ref) {
+    double lo = 1e300, hi = 0.0;
+    for (int i = 0; i <= 64; ++i)
+      for (int j = 0; j <= 64; ++j) {
+        dvec3 p = dvec3(l.p0) + (i / 64.0) * dvec3(l.e1) + (j / 64.0) * dvec3(l.e2);
+        dvec3 d = dvec3(ref) - p;
+        double r = glm::length(d), density = glm::dot(d, dvec3(l.n)) / (r * r * r);  // cos_l / r^2
+        lo = std::min(lo, density);
+        hi = std::max(hi, density);
+      }
+    return hi / lo;
+  };
+  Pcg32 rng(11, 12);
+  for (float threshold : {kAutoMinSpread, kAutoMinSpreadDeep}) {
+    int solid = 0, area = 0;
+    for (int k = 0; k < 3000; ++k) {
+      const float w = k % 2 ? 16.0f : 3.0f, h = k % 2 ? 7.0f : 1.0f;
+      vec3 ref = vec3(-0.5f * w, 0.95f - h, -0.5f * w) + vec3(w * rng.next_float(), h * rng.next_float(), w * rng.next_float());
+      LightSample ls[2];
+      bool ok = true;
+      for (LightSample& s : ls) {
+        ok = ok && sample_light(l, ref, vec2(rng.next_float(), rng.next_float()), LightSampling::automatic, s, threshold);
+        if (ok) {
+          ASSERT_NEAR(light_pdf(l, ref, s.wi, s.dist, l.n, LightSampling::automatic, threshold), s.pdf, 2e-3f * s.pdf);
+        }
+      }
+      if (!ok) continue;
+      SphericalRectangle sr;
+      ASSERT_TRUE(make_spherical_rectangle(ref, l.p0, l.e1, l.e2, sr));
+      const bool took_solid_angle =
+          std::abs(ls[0].pdf * sr.solid_angle - 1.0f) < 1e-3f && std::abs(ls[1].pdf * sr.solid_angle - 1.0f) < 1e-3f;
+      const double s = spread(ref);
+      if (std::abs(s / threshold - 1.0) < 0.02) continue;  // too close to call with a 64 x 64 grid
+      ASSERT_EQ(took_solid_angle, s >= threshold) << "spread " << s << " threshold " << threshold << " at " << ref.x
+                                                  << "," << ref.y << "," << ref.z;
+      (took_solid_angle ? solid : area)++;
+    }
+    EXPECT_GE(solid, 200) << threshold;
+    EXPECT_GE(area, 200) << threshold;
+  }
+}
+
 TEST(LightSampling, BackSideAndBehindGiveNothing) {
   Light rect = make_rect_light(vec3(0, 1, 0), vec3(0, 0, 1), vec3(1, 0, 0), vec3(1));  // faces +y
   LightSample ls;

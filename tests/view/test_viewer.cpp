@@ -179,8 +179,17 @@ TEST(Viewer, PanDollyLightIntensityAndWaitMs) {
       dir, "stop-at-spp 2\nwait-frames 2\nsave " + dir / "a.pfm" + "\nlight-intensity 2\nexpect-restart\n"
            "wait-frames 2\nsave " + dir / "b.pfm" + "\npan 0.1 0\nexpect-restart\ndolly 0.7\nexpect-restart\n"
            "wait-frames 2\nsave " + dir / "c.pfm" + "\nquit\n");
-  auto r = run_window({"--size", "64x64", "--max-depth", "4", "--script", script});
+  auto r = run_window({"--size", "64x64", "--max-depth", "4", "--script", script, "--stats-json", dir / "s.json"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
+  {
+    // Restarts at the start, after the light edit and after pan + dolly (edits before the next frame share one
+    // latency), each timed: the latency summary counts them and is ordered.
+    auto j = nlohmann::json::parse(read_file(dir / "s.json"));
+    const auto& lat = j["restart_latency_ms"];
+    EXPECT_GE(lat["count"].get<int>(), 3);
+    EXPECT_GT(lat["p50"].get<double>(), 0.0);
+    EXPECT_LE(lat["p50"].get<double>(), lat["p95"].get<double>());
+  }
   {
     // wait-ms alone: the run lasts at least the wait (a wait of half the time fails: start-up is far below 2 s).
     std::string wait = write_script(dir, "wait-ms 4000\nquit\n");

@@ -339,6 +339,21 @@ TEST(Tiers, TheOldSceneStaysLiveWhileALoadRuns) {
   EXPECT_EQ(st.geometry_builds, 2);
 }
 
+// The restart-latency summary (stats JSON and Stats panel): the nearest rank of the sorted values, whatever the
+// order they were recorded in.
+TEST(Stats, LatencyPercentilesAreNearestRanksOfTheSortedValues) {
+  EXPECT_EQ(percentile({}, 0.5), 0.0);
+  EXPECT_EQ(percentile({7.0}, 0.95), 7.0);
+  EXPECT_EQ(percentile({30, 10, 100, 20}, 0.5), 30.0);   // sorted 10 20 30 100: rank round(1.5) = 2
+  EXPECT_EQ(percentile({30, 10, 100, 20}, 0.95), 100.0);
+  std::vector<double> v;
+  for (int i = 0; i < 100; ++i) v.push_back(double((i * 37) % 100));  // 0..99 shuffled
+  EXPECT_EQ(percentile(v, 0.5), 50.0);
+  EXPECT_EQ(percentile(v, 0.95), 94.0);
+  EXPECT_EQ(percentile(v, 0.0), 0.0);
+  EXPECT_EQ(percentile(v, 1.0), 99.0);
+}
+
 TEST(SceneLights, TwoEmissiveTrianglesAreOneLightResizedInTheirPlane) {
   TempDir dir;
   Result<Scene> s = load_scene(write_two_triangle_light_obj(dir.path));
