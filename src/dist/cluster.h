@@ -36,6 +36,8 @@ class Cluster {
   /// Collective. On rank 0, `total` becomes the sum of every rank's `local` (every Film::for_each_buffer
   /// buffer), added in a fixed order; other ranks leave `total` untouched.
   virtual void sum_films(Film& local, Film& total) { total = local; }
+  /// Collective. Every rank gets rank 0's `data` (the same size on every rank).
+  virtual void broadcast(std::span<uint8_t> data) { (void)data; }
   /// Collective. Rank 0 gets the sum of the counters of every rank.
   virtual RenderCounters sum_counters(const RenderCounters& mine) { return mine; }
   /// Collective. Rank 0 gets every rank's work, in rank order.

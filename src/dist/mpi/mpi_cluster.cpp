@@ -117,6 +117,13 @@ class MpiCluster final : public Cluster {
     }
   }
 
+  void broadcast(std::span<uint8_t> data) override {
+    Timer t(comm_ms_);
+    const size_t chunk = size_t(1) << 30;  // MPI counts are int
+    for (size_t off = 0; off < data.size(); off += chunk)
+      MPI_Bcast(data.data() + off, int(std::min(chunk, data.size() - off)), MPI_UINT8_T, 0, MPI_COMM_WORLD);
+  }
+
   RenderCounters sum_counters(const RenderCounters& mine) override {
     static_assert(sizeof(RenderCounters) % sizeof(uint64_t) == 0 && std::is_trivially_copyable_v<RenderCounters>,
                   "RenderCounters is reduced as an array of uint64_t");
