@@ -32,8 +32,10 @@ class Renderer {
   /// Adds samples first[p] + offset .. first[p] + offset + spp_per_frame - 1 of each active pixel (every pixel if
   /// `active` is null) to `film`, whose own counts play no part: one rank's share of a pass whose pixels continue
   /// from the sample indices `first` of the combined film (adaptive sampling across MPI ranks, app/headless.cpp).
-  void render_range(const RenderScene& scene, const RenderParams& params, Film& film, const uint8_t* active,
-                    const uint32_t* first, uint32_t offset, RenderCounters& counters);
+  /// False if cancelled (as render_frame).
+  bool render_range(const RenderScene& scene, const RenderParams& params, Film& film, const uint8_t* active,
+                    const uint32_t* first, uint32_t offset, RenderCounters& counters,
+                    const std::atomic<bool>* cancel = nullptr);
 
  private:
   std::unique_ptr<WorkerPool> pool_;

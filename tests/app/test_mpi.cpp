@@ -251,13 +251,26 @@ TEST(Mpi, BadInputIsOneLineFromRankZero) {
   TempDir out;
   for (const auto& args : std::vector<std::vector<std::string>>{
            {"--frames", "0", "--out", out / "x.png"},
-           {"no-such-scene.json", "--frames", "1", "--out", out / "x.png"},
-           {"--size", "8x8", "--out", out / "x.png"}}) {  // no --frames: the viewer is not distributed
+           {"no-such-scene.json", "--frames", "1", "--out", out / "x.png"}}) {
     auto r = run_mpi(3, args);
     EXPECT_EQ(r.exit_code, 2) << args[0];
     EXPECT_EQ(count_lines(r.err), 1) << r.err;
     EXPECT_TRUE(no_files_in(out.path));
   }
+}
+
+// Without --frames rank 0 opens the viewer (the offload, src/view/offload.h); without a display it fails with the
+// viewer's one line, and its end of the offload releases the other ranks, which wait for its epochs: no hang (the
+// run_mpi timeout would make the exit code 124).
+TEST(Mpi, ViewerWithoutADisplayEndsEveryRank) {
+  SKIP_WITHOUT_MPI();
+  TempDir out;
+  auto r = run_mpi({Context{3, {"--size", "8x8", "--out", out / "x.png"}, "", "env -u DISPLAY -u WAYLAND_DISPLAY"}},
+                   120);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(count_lines(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("no display"), std::string::npos) << r.err;
+  EXPECT_TRUE(no_files_in(out.path));
 }
 
 // Rank 1 is killed while the ranks render: mpirun stops rank 0, which has written nothing (outputs are written

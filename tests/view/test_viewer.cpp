@@ -25,9 +25,11 @@ bool have_xvfb() { return std::system("command -v xvfb-run >/dev/null 2>&1") == 
 /// Runs ptview in a window: under xvfb-run when available (CI), else on the current display. xvfb-run's -a alone
 /// probes display numbers from 99 and races with any other xvfb-run starting at the same moment (another test
 /// binary, a parallel CI job), so the probe starts at a number of our own.
-RunResult run_window(const std::vector<std::string>& args) {
+/// `launcher` runs in front of ptview inside the display (mpirun for the offload test).
+RunResult run_window(const std::vector<std::string>& args, const std::string& launcher = "") {
   std::string wrapper;
   if (have_xvfb()) wrapper = "xvfb-run -a -n " + std::to_string(100 + ::getpid() % 800) + " -s '-screen 0 1280x1024x24'";
+  wrapper += " " + launcher;
   RunResult r = test::run_ptview(args, 240, wrapper);
   // xvfb-run itself sometimes fails to remove its temporary directory (exit 5) after the program ran, seen under
   // ASan on a loaded machine; that is the wrapper's failure, not ptview's: run once more.
@@ -501,6 +503,60 @@ TEST(Viewer, AdaptiveThresholdChangesNeverRestart) {
   auto b = run_window({"--size", "64x48", "--script", bad});
   EXPECT_EQ(b.exit_code, 2);
   EXPECT_NE(b.err.find("script.txt:1:"), std::string::npos) << b.err;
+}
+
+#ifdef PTVIEW_MPIEXEC
+/// mpirun with K ranks, as tests/app/test_mpi.cpp runs it (as root, in a container).
+std::string mpirun(int ranks) {
+  return "env OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_btl_vader_single_copy_mechanism=none "
+         "ASAN_OPTIONS=detect_leaks=0 " + shell_quote(PTVIEW_MPIEXEC) + " -q --oversubscribe --bind-to none -np " +
+         std::to_string(ranks);
+}
+#endif
+
+// The viewer offload (view/offload.h) with 2 ranks: an orbit restarts rank 1 too. Rank 0 stops at 2 spp, so what
+// the window shows after the orbit is almost all rank 1's samples: it must be the orbited camera's image (within
+// noise, against a 64-spp headless render: rank 1's samples are other sample indices than a headless run's), rank
+// 1's spp in the stats must be of the epoch after the orbit, and quitting on rank 0 ends both ranks (exit 0).
+// A rank 1 that kept the old camera, dropped its results, or whose results were merged wrongly fails.
+TEST(Viewer, OffloadOrbitRestartsEveryRank) {
+  REQUIRE_DISPLAY();
+#ifndef PTVIEW_MPIEXEC
+  GTEST_SKIP() << "built without MPI (PTVIEW_MPI=OFF)";
+#else
+  TempDir dir;
+  std::string script = write_script(dir, "wait-frames 1\norbit 35 10\nexpect-restart\nstop-at-spp 2\nwait-frames 2\n"
+                                         "wait-ms 1500\nsave " + dir / "viewer.pfm" + "\nscreenshot " + dir / "shot.png" +
+                                         "\nquit\n");
+  auto r = run_window({"--size", "96x64", "--max-depth", "6", "--threads", "1", "--script", script, "--stats-json",
+                       dir / "stats.json"},
+                      mpirun(2));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  auto stats = nlohmann::json::parse(read_file(dir / "stats.json"));
+  EXPECT_EQ(stats["ranks"], 2);
+  ASSERT_EQ(stats["per_rank"].size(), 2u);
+  EXPECT_EQ(stats["per_rank"][0]["spp"], 2);
+  const int remote_spp = stats["per_rank"][1]["spp"];
+  EXPECT_GE(remote_spp, 8) << stats.dump();
+  EXPECT_GT(stats["per_rank"][1]["spp_per_s"].get<double>(), 0.0);
+  EXPECT_EQ(stats["spp"], 2 + remote_spp);
+  Camera before = builtin_camera("cornell-spheres"), after = before;
+  orbit_camera(after, 35, 10);
+  write_builtin_with_camera("cornell-spheres", after, dir / "after.json");
+  write_builtin_with_camera("cornell-spheres", before, dir / "before.json");
+  for (const char* name : {"after", "before"}) {
+    auto h = test::run_ptview({dir / (std::string(name) + ".json"), "--frames", "64", "--size", "96x64",
+                               "--max-depth", "6", "--out", dir / (std::string(name) + ".pfm")});
+    ASSERT_EQ(h.exit_code, 0) << h.err;
+  }
+  Result<Image> viewer = load_image(dir / "viewer.pfm"), expected = load_image(dir / "after.pfm"),
+                unorbited = load_image(dir / "before.pfm");
+  ASSERT_TRUE(viewer.ok() && expected.ok() && unorbited.ok());
+  const double d_after = mean_abs_diff(*viewer, *expected), d_before = mean_abs_diff(*viewer, *unorbited);
+  std::printf("offload: rank 1 %d spp, |viewer - orbited| %.4f, |viewer - unorbited| %.4f\n", remote_spp, d_after,
+              d_before);
+  EXPECT_LT(d_after, 0.4 * d_before);
+#endif
 }
 
 TEST(Viewer, WithoutADisplayExitsTwoSuggestingFrames) {
