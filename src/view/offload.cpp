@@ -19,6 +19,10 @@ using Clock = std::chrono::steady_clock;
 
 /// Sample indices of rank r start at r * 2^24: no rank reaches another's range before 16 million samples per pixel.
 constexpr int kRankSampleShift = 24;
+/// A worker starts on a new epoch this long after it arrived: rank 0's first look at the epoch (a low-resolution
+/// preview of about 10 ms, render/session.h) then has the cores to itself, which keeps the restart latency of
+/// one process, and during a drag (an epoch every UI frame) no worker renders a frame that is stale at once.
+constexpr double kEpochSettleSeconds = 0.02;
 /// A worker sends its accumulation at most this often (rank 0 replaces the previous one: only the newest counts).
 constexpr double kSendIntervalSeconds = 0.03;
 
@@ -285,7 +289,7 @@ int run_offload_worker(OffloadChannel& channel, int rank, int threads) {
   double seconds = 0.0;
   std::atomic<bool> cancel{false};
   std::future<bool> job;
-  Clock::time_point job_start, last_send;
+  Clock::time_point job_start, last_send, epoch_start;
   const uint32_t base = uint32_t(rank) << kRankSampleShift;
   for (;;) {
     std::vector<std::vector<uint8_t>> posts = channel.poll_posts();
@@ -317,6 +321,7 @@ int run_offload_worker(OffloadChannel& channel, int rank, int threads) {
       counters = {};
       frames = 0;
       seconds = 0.0;
+      epoch_start = Clock::now();
     }
     if (job.valid() && job.wait_for(std::chrono::seconds(0)) == std::future_status::ready) {
       bool done = job.get();
@@ -330,7 +335,8 @@ int run_offload_worker(OffloadChannel& channel, int rank, int threads) {
       }
     }
     const int64_t next = int64_t(frames) * params.spp_per_frame;
-    if (rs && !job.valid() && next + params.spp_per_frame < (int64_t(1) << kRankSampleShift)) {
+    const bool settled = std::chrono::duration<double>(Clock::now() - epoch_start).count() >= kEpochSettleSeconds;
+    if (rs && settled && !job.valid() && next + params.spp_per_frame < (int64_t(1) << kRankSampleShift)) {
       job_start = Clock::now();
       const uint32_t offset = base + uint32_t(next);
       job = std::async(std::launch::async, [&, offset] {
