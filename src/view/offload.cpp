@@ -170,19 +170,6 @@ struct RankResult {
   std::vector<uint32_t> count;
 };
 
-std::vector<uint8_t> encode_result(uint64_t epoch, int rank, int spp, double seconds, const Film& film) {
-  Writer w;
-  w.pod(epoch);
-  w.pod(int32_t(rank));
-  w.pod(int32_t(film.width));
-  w.pod(int32_t(film.height));
-  w.pod(int32_t(spp));
-  w.pod(seconds);
-  w.vec(std::vector<float>(film.sum.begin(), film.sum.end()));
-  w.vec(film.count);
-  return std::move(w.bytes);
-}
-
 bool decode_result(const std::vector<uint8_t>& bytes, RankResult& out) {
   Reader r{bytes};
   r.pod(out.epoch);
@@ -198,6 +185,19 @@ bool decode_result(const std::vector<uint8_t>& bytes, RankResult& out) {
 }
 
 }  // namespace
+
+std::vector<uint8_t> encode_offload_result(uint64_t epoch, int rank, int spp, double seconds, const Film& film) {
+  Writer w;
+  w.pod(epoch);
+  w.pod(int32_t(rank));
+  w.pod(int32_t(film.width));
+  w.pod(int32_t(film.height));
+  w.pod(int32_t(spp));
+  w.pod(seconds);
+  w.vec(std::vector<float>(film.sum.begin(), film.sum.end()));
+  w.vec(film.count);
+  return std::move(w.bytes);
+}
 
 OffloadRoot::~OffloadRoot() {
   if (channel_) channel_->close();
@@ -329,7 +329,7 @@ int run_offload_worker(OffloadChannel& channel, int rank, int threads) {
         ++frames;
         seconds += std::chrono::duration<double>(Clock::now() - job_start).count();
         if (frames == 1 || std::chrono::duration<double>(Clock::now() - last_send).count() >= kSendIntervalSeconds) {
-          if (channel.send_result(encode_result(epoch, rank, frames * params.spp_per_frame, seconds, film)))
+          if (channel.send_result(encode_offload_result(epoch, rank, frames * params.spp_per_frame, seconds, film)))
             last_send = Clock::now();
         }
       }

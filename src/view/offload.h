@@ -69,6 +69,9 @@ class OffloadRoot {
   std::vector<Remote> remote_;  ///< ranks 1..K-1
 };
 
+/// A worker's message to rank 0: its accumulation `film` of epoch `epoch` (spp samples per pixel, in `seconds`).
+std::vector<uint8_t> encode_offload_result(uint64_t epoch, int rank, int spp, double seconds, const Film& film);
+
 /// Ranks 1..K-1 of a viewer run: renders the epochs rank 0 posts until it posts the end; returns the exit code.
 /// `threads` worker threads (0: all cores).
 int run_offload_worker(OffloadChannel& channel, int rank, int threads);
