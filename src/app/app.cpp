@@ -49,7 +49,10 @@ int run_app(int argc, const char* const* argv) {
 #ifdef PTVIEW_HAS_VIEWER
   if (cluster->ranks() > 1) {  // the viewer offload: the window on rank 0, the other ranks render for it
     std::unique_ptr<OffloadChannel> channel = cluster->offload_channel();
-    if (!cluster->root()) return run_offload_worker(*channel, cluster->rank(), options.render.threads);
+    if (!cluster->root()) {
+      *scene = Scene{};  // loaded for the collective check only: the workers render rank 0's posted scene
+      return run_offload_worker(*channel, cluster->rank(), options.render.threads);
+    }
     OffloadRoot offload(std::move(channel));  // its end (when run_viewer returns, on any path) ends the workers
     offload.set_ranks(cluster->ranks());
     return run_viewer(options.render, options.display, options.viewer, std::move(*scene), &offload);

@@ -23,8 +23,9 @@ constexpr int kRankSampleShift = 24;
 /// preview of about 10 ms, render/session.h) then has the cores to itself, which keeps the restart latency of
 /// one process, and during a drag (an epoch every UI frame) no worker renders a frame that is stale at once.
 constexpr double kEpochSettleSeconds = 0.02;
-/// A worker sends its accumulation at most this often (rank 0 replaces the previous one: only the newest counts).
-constexpr double kSendIntervalSeconds = 0.03;
+/// A worker sends its accumulation at most every 30 ms per million pixels (16 bytes a pixel; rank 0 replaces the
+/// previous one, only the newest counts): a large image does not keep rank 0's UI thread busy receiving.
+double send_interval_seconds(const Film& film) { return 0.03 * std::max(1.0, double(film.pixel_count()) * 1e-6); }
 
 /// The messages' byte layout: the fields in order, native endianness (every rank runs the same binary).
 struct Writer {
@@ -328,7 +329,7 @@ int run_offload_worker(OffloadChannel& channel, int rank, int threads) {
       if (done) {
         ++frames;
         seconds += std::chrono::duration<double>(Clock::now() - job_start).count();
-        if (frames == 1 || std::chrono::duration<double>(Clock::now() - last_send).count() >= kSendIntervalSeconds) {
+        if (frames == 1 || std::chrono::duration<double>(Clock::now() - last_send).count() >= send_interval_seconds(film)) {
           if (channel.send_result(encode_offload_result(epoch, rank, frames * params.spp_per_frame, seconds, film)))
             last_send = Clock::now();
         }
