@@ -56,6 +56,7 @@ class MpiOffloadChannel final : public OffloadChannel {
   MpiOffloadChannel(int rank, int size) : rank_(rank), size_(size) {}
   ~MpiOffloadChannel() override {
     for (Pending& p : sends_) MPI_Wait(&p.request, MPI_STATUS_IGNORE);
+    for (Pending& p : recvs_) MPI_Wait(&p.request, MPI_STATUS_IGNORE);
   }
 
   void post(std::vector<uint8_t> message) override {
@@ -84,7 +85,10 @@ class MpiOffloadChannel final : public OffloadChannel {
         std::this_thread::sleep_for(std::chrono::microseconds(200));
       }
     }
+    // Each worker completed its last send before saying goodbye: match what is left and complete every receive.
     receive(kTagResult);
+    for (Pending& p : recvs_) MPI_Wait(&p.request, MPI_STATUS_IGNORE);
+    recvs_.clear();
     for (Pending& p : sends_) MPI_Wait(&p.request, MPI_STATUS_IGNORE);
     sends_.clear();
   }
