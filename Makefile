@@ -4,7 +4,7 @@ BUILD_TYPE ?= Release
 JOBS ?= $(shell nproc 2>/dev/null || echo 2)
 CMAKE_FLAGS ?=
 
-.PHONY: run test build deps configure clean bench-error bench-cornell36 bench-throughput sanitize fuzz bench-raycast bench-e2e bench-micro bench-mpi
+.PHONY: run test build deps configure clean bench-error bench-cornell36 bench-throughput sanitize fuzz bench-raycast bench-e2e bench-micro bench-mpi bench-offload
 
 deps:
 	@bash scripts/install-deps.sh
@@ -45,6 +45,10 @@ bench-e2e: build
 # spp/s of 1 process x 2 threads against 2 MPI ranks x 1 thread, and the cost of one reduction (bench/mpi_scaling.sh).
 bench-mpi: build
 	bash bench/mpi_scaling.sh $(BUILD_DIR)
+
+# Viewer restart latency p50/p95 under an edit storm: 1 process against 2 MPI ranks (bench/offload_latency.sh).
+bench-offload: build
+	bash bench/offload_latency.sh $(BUILD_DIR)
 
 # Google Benchmark micro benchmarks of the triangle and box tests and the sampling warps.
 bench-micro: build

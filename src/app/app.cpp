@@ -25,8 +25,10 @@ int run_app(int argc, const char* const* argv) {
   }
   AppOptions options = *parsed.options;
   if (options.render.threads == 0) options.render.threads = cluster->default_threads();
+#ifndef PTVIEW_HAS_VIEWER
   if (cluster->ranks() > 1 && !options.headless())
-    return report_error(*cluster, "under mpirun ptview renders headless only: add --frames N or --time-limit S");
+    return report_error(*cluster, "this build has no viewer; render headless with --frames N");
+#endif
   const auto load_start = std::chrono::steady_clock::now();
   Result<Scene> scene = options.scene_path.empty() ? load_builtin_scene(kDefaultSceneName)
                                                    : load_scene(options.scene_path);
@@ -45,6 +47,16 @@ int run_app(int argc, const char* const* argv) {
   }
   if (options.headless()) return run_headless(options, *scene, *cluster, load_ms);
 #ifdef PTVIEW_HAS_VIEWER
+  if (cluster->ranks() > 1) {  // the viewer offload: the window on rank 0, the other ranks render for it
+    std::unique_ptr<OffloadChannel> channel = cluster->offload_channel();
+    if (!cluster->root()) {
+      *scene = Scene{};  // loaded for the collective check only: the workers render rank 0's posted scene
+      return run_offload_worker(*channel, cluster->rank(), options.render.threads);
+    }
+    OffloadRoot offload(std::move(channel));  // its end (when run_viewer returns, on any path) ends the workers
+    offload.set_ranks(cluster->ranks());
+    return run_viewer(options.render, options.display, options.viewer, std::move(*scene), &offload);
+  }
   return run_viewer(options.render, options.display, options.viewer, std::move(*scene));
 #else
   std::fprintf(stderr, "ptview: error: this build has no viewer; render headless with --frames N\n");

@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <sstream>
 
 #include "app/app.h"
@@ -91,8 +92,8 @@ LoopResult render_single(const AppOptions& options, const RenderScene& rs, Rende
 }
 
 /// Several ranks: sample-range sharding (dist/cluster.h). In round k this rank renders global frame k * ranks +
-/// rank; `film` holds this rank's samples, the result all ranks' (on rank 0). Adaptive sampling and --max-spp are
-/// refused before this runs (run_headless).
+/// rank; `film` holds this rank's samples, the result all ranks' (on rank 0). Adaptive sampling and --max-spp take
+/// render_sharded_adaptive.
 LoopResult render_sharded(const AppOptions& options, const RenderScene& rs, Renderer& renderer, RunSummary& run,
                           std::ostringstream& error_csv, const std::optional<Image>& reference, Cluster& cluster) {
   const RenderParams& params = options.render;
@@ -133,13 +134,101 @@ LoopResult render_sharded(const AppOptions& options, const RenderScene& rs, Rend
   return {std::move(total), render_seconds};
 }
 
+/// Several ranks with adaptive sampling or --max-spp: every rank holds the combined film's state (each pixel's next
+/// sample index `first`, the active mask, the sample level) and takes the single-process loop's steps (render_single)
+/// in rounds of up to `ranks` of its frames, rank r rendering the r-th frame of the round: the samples
+/// first[p] + offset .. of every active pixel. A round ends early at a convergence check, where rank 0 sums the films
+/// (in a fixed order, dist/cluster.h) and tests convergence, and broadcasts the active mask: one decision, taken once,
+/// so every rank continues with the same mask and stops in the same round. The samples are then those of one
+/// process; only the order of their summation differs.
+LoopResult render_sharded_adaptive(const AppOptions& options, const RenderScene& rs, Renderer& renderer,
+                                   RunSummary& run, std::ostringstream& error_csv,
+                                   const std::optional<Image>& reference, Cluster& cluster) {
+  const RenderParams& params = options.render;
+  const int ranks = cluster.ranks();
+  const AdaptiveParams& adaptive = options.adaptive;
+  Film film(params.width, params.height), total;
+  const size_t pixels = film.pixel_count();
+  std::vector<uint32_t> first(pixels, 0);  // the combined film's `taken`
+  std::vector<uint8_t> active(pixels, 1);
+  size_t active_count = pixels;
+  bool checked = false;
+  int level = 0, frames = 0;
+  int next_check = adaptive.enabled() ? effective_min_spp(adaptive) : std::numeric_limits<int>::max();
+  RankWork mine;
+  const bool progress = ::isatty(STDERR_FILENO) && cluster.root();
+  const int frames_total = options.frames.value_or(0);
+  const Clock::time_point start = Clock::now();
+  double render_seconds = 0.0;
+  bool summed = false;
+  auto more = [&](int lvl, int fr) {
+    return (frames_total == 0 || fr < frames_total) && !(options.max_spp && lvl >= *options.max_spp);
+  };
+  while (more(level, frames) && !(checked && active_count == 0)) {
+    Clock::time_point t0 = Clock::now();
+    // The single-process frames of this round: (sample offset, spp) each, ending at a check or a limit.
+    std::vector<std::pair<int, int>> plan;
+    int lvl = level;
+    while (int(plan.size()) < ranks && more(lvl, frames + int(plan.size())) && lvl < next_check) {
+      int spp = params.spp_per_frame;
+      if (options.max_spp) spp = std::min(spp, *options.max_spp - lvl);
+      plan.emplace_back(lvl - level, spp);
+      lvl += spp;
+    }
+    if (size_t(cluster.rank()) < plan.size()) {
+      RenderParams p = params;
+      auto [offset, spp] = plan[size_t(cluster.rank())];
+      p.spp_per_frame = spp;
+      renderer.render_range(rs, p, film, adaptive.enabled() ? active.data() : nullptr, first.data(),
+                            uint32_t(offset), run.counters);
+      mine.spp += spp;
+      mine.seconds += seconds_since(t0);
+    }
+    for (size_t q = 0; q < pixels; ++q) first[q] += active[q] ? uint32_t(lvl - level) : 0u;
+    level = lvl;
+    frames += int(plan.size());
+    run.frames = frames;
+    run.spp = level;
+    summed = false;
+    if (level >= next_check || !options.error_csv.empty()) {
+      cluster.sum_films(film, total);
+      summed = true;
+    }
+    if (level >= next_check) {
+      if (cluster.root()) active_count = compute_active_pixels(total, adaptive.noise_threshold,
+                                                               effective_min_spp(adaptive), active);
+      cluster.broadcast(active);
+      active_count = size_t(std::count(active.begin(), active.end(), uint8_t(1)));
+      checked = true;
+      next_check = level + kAdaptiveCheckInterval;
+    }
+    render_seconds += seconds_since(t0);
+    if (summed && cluster.root()) append_error_row(error_csv, run, render_seconds, total, reference);
+    if (progress) print_progress(run.frames, frames_total, run.spp, render_seconds, run.counters.rays(), false);
+    if (options.time_limit && cluster.any(seconds_since(start) >= *options.time_limit)) break;
+  }
+  Clock::time_point t0 = Clock::now();
+  if (!summed) cluster.sum_films(film, total);
+  run.counters = cluster.sum_counters(run.counters);
+  render_seconds += seconds_since(t0);
+  run.per_rank = cluster.gather_work(mine);
+  if (progress) print_progress(run.frames, frames_total, run.spp, render_seconds, run.counters.rays(), true);
+  if (cluster.root()) {
+    run.convergence.est_rel_mse = est_rel_mse(total);
+    run.convergence.spp = spp_summary(total);
+    if (adaptive.enabled()) {
+      if (checked) run.convergence.converged_fraction = 1.0 - double(active_count) / double(pixels);
+      run.convergence.noise_threshold = adaptive.noise_threshold;
+      run.convergence.min_spp = effective_min_spp(adaptive);
+    }
+  }
+  return {std::move(total), render_seconds};
+}
+
 }  // namespace
 
 int run_headless(const AppOptions& options, const Scene& scene, Cluster& cluster, double load_ms) {
   const RenderParams& params = options.render;
-  if (cluster.ranks() > 1 && (options.adaptive.enabled() || options.max_spp))
-    return report_error(cluster, "--noise-threshold and --max-spp are not supported under mpirun yet: use --frames "
-                                 "or --time-limit");
   RenderScene rs = make_render_scene(scene);
   for (const std::string& w : cluster.root() ? scene.warnings : std::vector<std::string>{})
     std::fprintf(stderr, "ptview: warning: %s\n", Error::one_line(w).c_str());
@@ -166,14 +255,16 @@ int run_headless(const AppOptions& options, const Scene& scene, Cluster& cluster
   RunSummary run;
   run.load_ms = load_ms;
   run.threads = renderer.thread_count();
-  LoopResult result = cluster.ranks() > 1
-                          ? render_sharded(options, rs, renderer, run, error_csv, reference, cluster)
-                          : render_single(options, rs, renderer, run, error_csv, reference);
+  const bool sharded_adaptive = options.adaptive.enabled() || options.max_spp;
+  LoopResult result =
+      cluster.ranks() == 1 ? render_single(options, rs, renderer, run, error_csv, reference)
+      : sharded_adaptive   ? render_sharded_adaptive(options, rs, renderer, run, error_csv, reference, cluster)
+                           : render_sharded(options, rs, renderer, run, error_csv, reference, cluster);
   run.seconds = result.render_seconds;
   run.comm_ms = cluster.comm_ms();
   if (!cluster.root()) return 0;  // rank 0 writes every output
   const Film& film = result.film;
-  if (cluster.ranks() > 1) {
+  if (cluster.ranks() > 1 && !sharded_adaptive) {
     ProgressiveFilm summary;  // the convergence figures of the combined film (adaptive sampling is off here)
     summary.reset(film.width, film.height);
     summary.film() = film;

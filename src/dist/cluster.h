@@ -18,6 +18,28 @@
 
 namespace pt {
 
+/// The viewer offload's messages (OSPRay's mpiOffload, for a progressive viewer; src/view/offload.h gives them
+/// meaning): rank 0 posts every epoch to all other ranks, and they send their accumulations back. Nothing here
+/// blocks, except the closing handshake: every call is made by the main thread (rank 0's UI thread), which polls.
+class OffloadChannel {
+ public:
+  virtual ~OffloadChannel() = default;
+  /// Rank 0: sends `message` to every other rank, in order (an empty message ends the workers: see close).
+  virtual void post(std::vector<uint8_t> message) = 0;
+  /// Rank 0: the accumulations that have arrived since the last call (each whole, as sent).
+  virtual std::vector<std::vector<uint8_t>> poll_results() = 0;
+  /// Rank 0: posts the end, then receives (and drops) results until every other rank has said goodbye, so that
+  /// no message is left in flight when MPI finalizes. Blocks for at most the other ranks' current frame.
+  virtual void close() = 0;
+  /// Other ranks: the posts that arrived since the last call, oldest first (an empty one: stop).
+  virtual std::vector<std::vector<uint8_t>> poll_posts() = 0;
+  /// Other ranks: sends an accumulation to rank 0 unless the previous one is still in flight (then false: the
+  /// next, more complete, one replaces it).
+  virtual bool send_result(std::vector<uint8_t> message) = 0;
+  /// Other ranks, after the empty post: waits for its sends and says goodbye.
+  virtual void finish() = 0;
+};
+
 class Cluster {
  public:
   virtual ~Cluster() = default;
@@ -36,10 +58,14 @@ class Cluster {
   /// Collective. On rank 0, `total` becomes the sum of every rank's `local` (every Film::for_each_buffer
   /// buffer), added in a fixed order; other ranks leave `total` untouched.
   virtual void sum_films(Film& local, Film& total) { total = local; }
+  /// Collective. Every rank gets rank 0's `data` (the same size on every rank).
+  virtual void broadcast(std::span<uint8_t> data) { (void)data; }
   /// Collective. Rank 0 gets the sum of the counters of every rank.
   virtual RenderCounters sum_counters(const RenderCounters& mine) { return mine; }
   /// Collective. Rank 0 gets every rank's work, in rank order.
   virtual std::vector<RankWork> gather_work(const RankWork& mine) { return {mine}; }
+  /// The viewer offload's channel; null for one process.
+  virtual std::unique_ptr<OffloadChannel> offload_channel() { return nullptr; }
   /// Milliseconds this process spent in MPI calls (including waiting for slower ranks).
   virtual double comm_ms() const { return 0.0; }
 };

@@ -68,4 +68,14 @@ bool Renderer::render_pass(const RenderScene& scene, const RenderParams& params,
   });
 }
 
+bool Renderer::render_range(const RenderScene& scene, const RenderParams& params, Film& film, const uint8_t* active,
+                            const uint32_t* first, uint32_t offset, RenderCounters& counters,
+                            const std::atomic<bool>* cancel) {
+  const CameraRig rig = make_camera_rig(scene.camera, params.width, params.height);
+  return for_each_tile(*pool_, params.width, params.height, counters, cancel, [&](int x, int y, RenderCounters& c) {
+    const size_t p = size_t(y) * size_t(params.width) + size_t(x);
+    if (!active || active[p]) render_pixel(scene, params, rig, x, y, first[p] + offset, film, c);
+  });
+}
+
 }  // namespace pt

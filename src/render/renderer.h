@@ -29,6 +29,13 @@ class Renderer {
   /// that only ever received whole passes or frames from frame 0 this equals render_frame with the next frame.
   bool render_pass(const RenderScene& scene, const RenderParams& params, Film& film, const uint8_t* active,
                    RenderCounters& counters, const std::atomic<bool>* cancel = nullptr);
+  /// Adds samples first[p] + offset .. first[p] + offset + spp_per_frame - 1 of each active pixel (every pixel if
+  /// `active` is null) to `film`, whose own counts play no part: one rank's share of a pass whose pixels continue
+  /// from the sample indices `first` of the combined film (adaptive sampling across MPI ranks, app/headless.cpp).
+  /// False if cancelled (as render_frame).
+  bool render_range(const RenderScene& scene, const RenderParams& params, Film& film, const uint8_t* active,
+                    const uint32_t* first, uint32_t offset, RenderCounters& counters,
+                    const std::atomic<bool>* cancel = nullptr);
 
  private:
   std::unique_ptr<WorkerPool> pool_;

@@ -103,6 +103,8 @@ void RenderSession::drive(std::stop_token stop) {
     bool maps = publish_maps_ && !preview;
     published_.rel_error = maps ? rel_error_image(film.film()) : Image();
     published_.spp_map = maps ? spp_image(film.film()) : Image();
+    if (publish_counts_ && !preview) published_.count = film.film().count;
+    else published_.count.clear();
   };
   while (!stop.stop_requested()) {
     {

@@ -33,6 +33,7 @@ struct SessionFrame {
   SppSummary spp_stats;
   Image rel_error;  ///< per-pixel relative standard error; only with set_publish_maps(true), else empty
   Image spp_map;    ///< samples per pixel; only with set_publish_maps(true), else empty
+  std::vector<uint32_t> count;  ///< finite samples per pixel (Film::count); only with set_publish_counts(true)
 };
 
 class RenderSession {
@@ -56,6 +57,8 @@ class RenderSession {
   /// Turning it on republishes the current frame with its maps at once, even when rendering has stopped (paused,
   /// target spp reached, converged), so a display mode that shows them never waits for a new frame.
   void set_publish_maps(bool on);
+  /// Also publish every full frame's per-pixel sample counts (the viewer offload merges other ranks' sums).
+  void set_publish_counts(bool on) { publish_counts_ = on; }
   /// Every epoch first renders and publishes one frame at 1/divisor resolution, so an edit shows within a few
   /// milliseconds even when a full frame takes much longer (1: off).
   void set_preview_divisor(int divisor) { preview_div_ = std::max(1, divisor); }
@@ -79,6 +82,7 @@ class RenderSession {
   std::atomic<int> target_spp_{0};
   std::atomic<int> preview_div_{1};
   std::atomic<bool> publish_maps_{false};
+  std::atomic<bool> publish_counts_{false};
   std::atomic<bool> converged_{false};  ///< of the current epoch, written by the driver
   AdaptiveParams adaptive_;             ///< guarded by mutex_
   bool adaptive_changed_ = false;       ///< guarded by mutex_

@@ -313,6 +313,9 @@ void stats_panel(const ViewerState& st) {
   ImGui::Text("%d x %d%s", f.width, f.height, f.preview ? "  (preview)" : "");
   ImGui::Text("spp %d   %.1f spp/s   %.2f Mrays/s", f.spp, sps, mrays);
   ImGui::Text("elapsed %.1f s   threads %d", f.seconds, st.session->thread_count());
+  if (st.offload)
+    for (const RankContribution& c : st.offload->contributions())
+      ImGui::Text("rank %d: spp %d   %.1f spp/s", c.rank, c.spp, c.spp_per_s());
   convergence_stats(st);
   compare_stats(st);
   ImGui::Text("non-finite samples %llu", (unsigned long long)f.counters.nonfinite_samples);

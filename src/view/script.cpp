@@ -281,6 +281,12 @@ const ScriptCommandSpec kCommands[] = {
          ready = ready && st.frame_b.epoch == st.session_b->epoch() && st.frame_b.frames >= int(num(c, 0));
        return ready ? ScriptStep::done : ScriptStep::wait;
      }},
+    {"wait-spp", "N", 1, 1, true, check_count,
+     [](ScriptRun&, ViewerState& st, const ScriptCommand& c) {  // all ranks' samples under mpirun (view/offload.h)
+       bool ready = !st.loading.valid() && st.session && st.frame.epoch == st.session->epoch() && !st.frame.preview &&
+                    st.frame.spp >= int(num(c, 0));
+       return ready ? ScriptStep::done : ScriptStep::wait;
+     }},
     {"wait-ms", "N", 1, 1, true, check_count,
      [](ScriptRun& r, ViewerState&, const ScriptCommand& c) {
        auto now = std::chrono::steady_clock::now();
@@ -336,7 +342,7 @@ const ScriptCommandSpec* find_command(const std::string& name) {
   return nullptr;
 }
 
-bool is_wait(const std::string& name) { return name == "wait-frames" || name == "wait-ms"; }
+bool is_wait(const std::string& name) { return name == "wait-frames" || name == "wait-spp" || name == "wait-ms"; }
 
 }  // namespace
 

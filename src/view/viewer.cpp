@@ -116,7 +116,7 @@ struct SizeFollower {
 /// Shows the newest frame; the first frame of an epoch closes its restart-latency measurement, and full frames
 /// tune the preview divisor so a preview takes about 10 ms.
 void fetch_frame(ViewerState& st, GlDisplay& gl, Image& shown, HeatLegend& legend, bool& heat) {
-  bool fresh = st.session->fetch(st.frame);
+  bool fresh = st.offload ? st.offload->fetch(*st.session, st.frame) : st.session->fetch(st.frame);
   if (fresh) st.note_frame();
   if (fresh || st.display_dirty) {
     heat = make_display_image(st.display_mode, st.frame, st.reference ? &*st.reference : nullptr, shown, legend);
@@ -196,7 +196,8 @@ bool report(const std::optional<Error>& err) {
 
 }  // namespace
 
-int run_viewer(const RenderParams& params, const DisplaySettings& display, const ViewerHooks& hooks, Scene scene) {
+int run_viewer(const RenderParams& params, const DisplaySettings& display, const ViewerHooks& hooks, Scene scene,
+               OffloadRoot* offload) {
   ScriptRun script;
   if (!hooks.script.empty()) {
     Result<std::vector<ScriptCommand>> cmds = load_script(hooks.script);
@@ -225,6 +226,7 @@ int run_viewer(const RenderParams& params, const DisplaySettings& display, const
 
   ViewerState st;
   st.adaptive = hooks.adaptive;
+  st.offload = offload;
   RenderParams start = params;
   bool lock_size = hooks.lock_size;
   if (!hooks.reference.empty()) {

@@ -51,6 +51,7 @@ void ViewerState::init(Scene s, const RenderParams& p, const DisplaySettings& d,
   if (threads >= 0) {
     session = std::make_unique<RenderSession>(threads);
     session->set_adaptive(adaptive);
+    session->set_publish_counts(offload != nullptr);
   }
   restart();
 }
@@ -67,6 +68,7 @@ void ViewerState::restart() {
   }
   session->set_preview_divisor(preview_div);
   uint64_t e = session->restart(render_scene, params);
+  if (offload) offload->post_epoch(e, params, scene, geometry_builds, geometry_refits);
   restart_started[e] = Clock::now();
   while (restart_started.size() > 64) restart_started.erase(restart_started.begin());
 }
@@ -327,6 +329,8 @@ std::string ViewerState::stats_json() const {
     run.convergence.noise_threshold = adaptive.noise_threshold;
     run.convergence.min_spp = effective_min_spp(adaptive);
   }
+  if (offload)
+    for (const RankContribution& c : offload->contributions()) run.per_rank.push_back({c.spp, c.seconds});
   RenderParams shown = params;
   shown.width = frame.width;
   shown.height = frame.height;
@@ -334,6 +338,11 @@ std::string ViewerState::stats_json() const {
   j["restart_latency_ms"] = {{"p50", percentile(restart_latency_ms, 0.5)},
                              {"p95", percentile(restart_latency_ms, 0.95)},
                              {"count", restart_latency_ms.size()}};
+  if (offload)  // spp/s of each rank in the shown epoch, as the Stats panel shows it
+    for (size_t i = 0; i < j["per_rank"].size(); ++i) {
+      const RankWork& w = run.per_rank[i];
+      j["per_rank"][i]["spp_per_s"] = w.seconds > 0 ? w.spp / w.seconds : 0.0;
+    }
   j["ui_fps"] = elapsed > 0 ? double(ui_frames) / elapsed : 0.0;
   j["ui_frames"] = ui_frames;
   j["restarts"] = restarts;

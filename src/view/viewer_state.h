@@ -14,6 +14,7 @@
 #include "render/session.h"
 #include "scene/scene_lights.h"
 #include "view/edit.h"
+#include "view/offload.h"
 #include "view/viewer_hooks.h"
 
 namespace pt {
@@ -60,6 +61,8 @@ struct ViewerState {
   std::shared_ptr<const RenderGeometry> geo;
   std::shared_ptr<const RenderScene> render_scene;  ///< the one being rendered (picking reads it)
   std::unique_ptr<RenderSession> session;           ///< null in tests that only check tiers
+  /// Under mpirun: the other ranks render too (view/offload.h); every restart posts an epoch. Set before init.
+  OffloadRoot* offload = nullptr;
   SessionFrame frame;          ///< latest frame shown
   std::vector<SceneLight> lights;  ///< find_scene_lights(scene), kept stable between material edits
   std::vector<Material> loaded_materials;  ///< as loaded: a saved scene names a mesh's file while they are unedited

@@ -123,6 +123,62 @@ TEST(Mpi, OneTwoThreeRanksGiveTheImageOfOneProcess) {
   }
 }
 
+// Adaptive sampling across ranks: rank 0 tests convergence on the combined film at the single-process check points
+// and broadcasts the active mask, so the ranks draw exactly the samples one process draws. The spp map is therefore
+// identical (a convergence decision could only differ if a pixel's error landed within double rounding of the
+// threshold; with ~1000 pixel tests per run that has a probability far below 1e-9), and the image equal within 1e-6.
+// A rank rendering another offset (or every rank the same samples), or ranks deciding on their own films, changes
+// the spp map. --max-spp alone (a last frame cut to 1 spp) is sharded the same way.
+TEST(Mpi, AdaptiveSamplingAcrossRanksMatchesOneProcess) {
+  SKIP_WITHOUT_MPI();
+  TempDir dir;
+  const std::vector<std::string> common = {"builtin:cornell-glass", "--size", "40x30", "--threads", "1"};
+  for (const auto& extra : std::vector<std::vector<std::string>>{
+           {"--noise-threshold", "0.1", "--max-spp", "200"},
+           {"--noise-threshold", "0.2", "--min-spp", "8", "--spp-per-frame", "3", "--sampler", "independent",
+            "--max-spp", "400"},
+           {"--max-spp", "7", "--spp-per-frame", "2"}}) {
+    const bool adaptive = extra[0] == "--noise-threshold";
+    auto run = [&](int k) {
+      std::string tag = dir / ("k" + std::to_string(k));
+      std::vector<std::string> a = common;
+      a.insert(a.end(), extra.begin(), extra.end());
+      a.insert(a.end(), {"--out", tag + ".pfm", "--spp-map", tag + "_spp.pfm", "--stats-json", tag + ".json"});
+      auto r = k == 0 ? run_ptview(a) : run_mpi(k, a);
+      EXPECT_EQ(r.exit_code, 0) << r.err;
+      return tag;
+    };
+    const std::string one = run(0);
+    Result<Image> ref = load_image(one + ".pfm"), ref_spp = load_image(one + "_spp.pfm");
+    ASSERT_TRUE(ref.ok() && ref_spp.ok());
+    auto ref_stats = nlohmann::json::parse(read_file(one + ".json"));
+    if (adaptive) {
+      EXPECT_GT(ref_stats["converged_fraction"].get<double>(), 0.2) << extra[1];  // the test exercises stopping
+      EXPECT_LT(ref_stats["spp_min"], ref_stats["spp_max"]);
+    }
+    for (int k : {2, 3}) {
+      const std::string tag = run(k);
+      Result<Image> img = load_image(tag + ".pfm"), spp = load_image(tag + "_spp.pfm");
+      ASSERT_TRUE(img.ok() && spp.ok()) << k;
+      EXPECT_EQ(spp->rgb, ref_spp->rgb) << extra[1] << ", " << k << " ranks";
+      EXPECT_LE(max_relative_difference(*img, *ref), 1e-6) << extra[1] << ", " << k << " ranks";
+      auto j = nlohmann::json::parse(read_file(tag + ".json"));
+      for (const char* key : {"spp", "frames", "samples", "converged_fraction", "spp_min", "spp_max", "spp_mean",
+                              "noise_threshold", "min_spp"})
+        EXPECT_EQ(j[key], ref_stats[key]) << key << ", " << extra[1] << ", " << k << " ranks";
+      EXPECT_NEAR(j["est_rel_mse"].get<double>(), ref_stats["est_rel_mse"].get<double>(),
+                  1e-9 * ref_stats["est_rel_mse"].get<double>());
+      ASSERT_EQ(j["per_rank"].size(), size_t(k));
+      int spp_sum = 0;
+      for (const auto& w : j["per_rank"]) {
+        EXPECT_GT(w["spp"].get<int>(), 0);  // every rank took a share
+        spp_sum += w["spp"].get<int>();
+      }
+      EXPECT_EQ(spp_sum, j["spp"].get<int>());
+    }
+  }
+}
+
 // CSV rows at every round (K frames) and at the end, with the error of the combined image, which is the
 // single-process error at the same frame.
 TEST(Mpi, ErrorCsvRowsAtRoundBoundariesMatchOneProcess) {
@@ -195,13 +251,26 @@ TEST(Mpi, BadInputIsOneLineFromRankZero) {
   TempDir out;
   for (const auto& args : std::vector<std::vector<std::string>>{
            {"--frames", "0", "--out", out / "x.png"},
-           {"no-such-scene.json", "--frames", "1", "--out", out / "x.png"},
-           {"--size", "8x8", "--out", out / "x.png"}}) {  // no --frames: the viewer is not distributed
+           {"no-such-scene.json", "--frames", "1", "--out", out / "x.png"}}) {
     auto r = run_mpi(3, args);
     EXPECT_EQ(r.exit_code, 2) << args[0];
     EXPECT_EQ(count_lines(r.err), 1) << r.err;
     EXPECT_TRUE(no_files_in(out.path));
   }
+}
+
+// Without --frames rank 0 opens the viewer (the offload, src/view/offload.h); without a display it fails with the
+// viewer's one line, and its end of the offload releases the other ranks, which wait for its epochs: no hang (the
+// run_mpi timeout would make the exit code 124).
+TEST(Mpi, ViewerWithoutADisplayEndsEveryRank) {
+  SKIP_WITHOUT_MPI();
+  TempDir out;
+  auto r = run_mpi({Context{3, {"--size", "8x8", "--out", out / "x.png"}, "", "env -u DISPLAY -u WAYLAND_DISPLAY"}},
+                   120);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(count_lines(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("no display"), std::string::npos) << r.err;
+  EXPECT_TRUE(no_files_in(out.path));
 }
 
 // Rank 1 is killed while the ranks render: mpirun stops rank 0, which has written nothing (outputs are written

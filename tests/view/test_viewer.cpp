@@ -25,9 +25,11 @@ bool have_xvfb() { return std::system("command -v xvfb-run >/dev/null 2>&1") == 
 /// Runs ptview in a window: under xvfb-run when available (CI), else on the current display. xvfb-run's -a alone
 /// probes display numbers from 99 and races with any other xvfb-run starting at the same moment (another test
 /// binary, a parallel CI job), so the probe starts at a number of our own.
-RunResult run_window(const std::vector<std::string>& args) {
+/// `launcher` runs in front of ptview inside the display (mpirun for the offload test).
+RunResult run_window(const std::vector<std::string>& args, const std::string& launcher = "") {
   std::string wrapper;
   if (have_xvfb()) wrapper = "xvfb-run -a -n " + std::to_string(100 + ::getpid() % 800) + " -s '-screen 0 1280x1024x24'";
+  wrapper += " " + launcher;
   RunResult r = test::run_ptview(args, 240, wrapper);
   // xvfb-run itself sometimes fails to remove its temporary directory (exit 5) after the program ran, seen under
   // ASan on a loaded machine; that is the wrapper's failure, not ptview's: run once more.
@@ -510,6 +512,60 @@ TEST(Viewer, AdaptiveThresholdChangesNeverRestart) {
   auto b = run_window({"--size", "64x48", "--script", bad});
   EXPECT_EQ(b.exit_code, 2);
   EXPECT_NE(b.err.find("script.txt:1:"), std::string::npos) << b.err;
+}
+
+#ifdef PTVIEW_MPIEXEC
+/// mpirun with K ranks, as tests/app/test_mpi.cpp runs it (as root, in a container).
+std::string mpirun(int ranks) {
+  return "env OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_btl_vader_single_copy_mechanism=none "
+         "ASAN_OPTIONS=detect_leaks=0 " + shell_quote(PTVIEW_MPIEXEC) + " -q --oversubscribe --bind-to none -np " +
+         std::to_string(ranks);
+}
+#endif
+
+// The viewer offload (view/offload.h) with 2 ranks: an orbit, a light resize (BVH refit) and a light intensity
+// (materials) restart rank 1 too. Rank 0 stops at 2 spp, so what the window shows after the edits is almost all
+// rank 1's samples: it must be the image of the scene as edited (saved by save-scene and rendered headless at 64
+// spp; rank 1's samples are other sample indices than a headless run's, so within noise, not bit for bit), rank
+// 1's spp in the stats must be of the last epoch (the script waits for 40 spp in all; if rank 1's results never
+// arrived, the run would time out), and quitting on rank 0 ends both ranks (exit 0). A rank 1 that
+// kept the old camera (tried), dropped its results, or whose results were merged wrongly fails.
+TEST(Viewer, OffloadOrbitRestartsEveryRank) {
+  REQUIRE_DISPLAY();
+#ifndef PTVIEW_MPIEXEC
+  GTEST_SKIP() << "built without MPI (PTVIEW_MPI=OFF)";
+#else
+  TempDir dir;
+  std::string script = write_script(dir, "wait-frames 1\norbit 35 10\nexpect-restart\nlight-size 0.3 0.2\n"
+                                         "expect-restart\nlight-intensity 2\nexpect-restart\nstop-at-spp 2\n"
+                                         "wait-frames 2\nwait-spp 40\nsave " + dir / "viewer.pfm" + "\nsave-scene " +
+                                         dir / "edited.json" + "\nscreenshot " + dir / "shot.png" + "\nquit\n");
+  auto r = run_window({"--size", "96x64", "--max-depth", "6", "--threads", "1", "--script", script, "--stats-json",
+                       dir / "stats.json"},
+                      mpirun(2));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  auto stats = nlohmann::json::parse(read_file(dir / "stats.json"));
+  EXPECT_EQ(stats["ranks"], 2);
+  ASSERT_EQ(stats["per_rank"].size(), 2u);
+  EXPECT_EQ(stats["per_rank"][0]["spp"], 2);
+  const int remote_spp = stats["per_rank"][1]["spp"];
+  EXPECT_GE(remote_spp, 38) << stats.dump();  // wait-spp 40 with rank 0 stopped at 2: no timing involved
+  EXPECT_GT(stats["per_rank"][1]["spp_per_s"].get<double>(), 0.0);
+  EXPECT_EQ(stats["spp"], 2 + remote_spp);
+  for (const std::string& name : {std::string("edited"), std::string("builtin:cornell-spheres")}) {
+    const bool edited = name == "edited";
+    auto h = test::run_ptview({edited ? dir / "edited.json" : name, "--frames", "64", "--size", "96x64",
+                               "--max-depth", "6", "--out", dir / (edited ? "after.pfm" : "before.pfm")});
+    ASSERT_EQ(h.exit_code, 0) << h.err;
+  }
+  Result<Image> viewer = load_image(dir / "viewer.pfm"), expected = load_image(dir / "after.pfm"),
+                unedited = load_image(dir / "before.pfm");
+  ASSERT_TRUE(viewer.ok() && expected.ok() && unedited.ok());
+  const double d_after = mean_abs_diff(*viewer, *expected), d_before = mean_abs_diff(*viewer, *unedited);
+  std::printf("offload: rank 1 %d spp, |viewer - edited| %.4f, |viewer - unedited| %.4f\n", remote_spp, d_after,
+              d_before);
+  EXPECT_LT(d_after, 0.3 * d_before);
+#endif
 }
 
 TEST(Viewer, WithoutADisplayExitsTwoSuggestingFrames) {

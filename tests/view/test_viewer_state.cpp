@@ -505,7 +505,7 @@ TEST(Script, EveryCommandOfTheTableParsesItsWellFormedUse) {
   const char* good =
       "orbit 10 -5\npan 0.1 0\ndolly 0.8\npick 3 4\nset-material glass ior=1.3 emission=0,0,0\nlight 0\n"
       "light-size 0.5 0.2\nlight-scale 1.1\nlight-position 0 1.9 0\nlight-intensity 2\nexposure -1\ntonemap reinhard\n"
-      "load x.obj\nwait-frames 2\nwait-ms 10\nstop-at-spp 8\nscreenshot a.png\nsave a.pfm\nsave-scene a.json\nexpect-restart\n"
+      "load x.obj\nwait-frames 2\nwait-spp 4\nwait-ms 10\nstop-at-spp 8\nscreenshot a.png\nsave a.pfm\nsave-scene a.json\nexpect-restart\n"
       "expect-no-restart\ndisplay error\nnoise-threshold 0.05 16\n"
       "compare integrator=nee sampler=independent light-sampling=area adaptive=0.1\ndivider 0.3\nquit\n";
   auto r = parse_script(good, "s.txt");

@@ -8,6 +8,7 @@
 #include <csignal>
 #include <cstring>
 #include <exception>
+#include <memory>
 #include <thread>
 #include <type_traits>
 #include <variant>
@@ -45,6 +46,127 @@ extern "C" void on_terminate(int sig) {
   std::raise(sig);
 }
 
+/// Tags of the offload messages (MPI_COMM_WORLD; the headless collectives use tag 0 and never run at the same time).
+constexpr int kTagPost = 11, kTagResult = 12, kTagBye = 13;
+
+/// Every message is sent with MPI_Isend and its buffer kept until MPI_Test says it went; results are matched with
+/// MPI_Improbe and received with MPI_Imrecv into a buffer of their size, so rank 0 never waits for one.
+class MpiOffloadChannel final : public OffloadChannel {
+ public:
+  MpiOffloadChannel(int rank, int size) : rank_(rank), size_(size) {}
+  ~MpiOffloadChannel() override {
+    for (Pending& p : sends_) MPI_Wait(&p.request, MPI_STATUS_IGNORE);
+    for (Pending& p : recvs_) MPI_Wait(&p.request, MPI_STATUS_IGNORE);
+  }
+
+  void post(std::vector<uint8_t> message) override {
+    complete_sends();
+    for (int r = 1; r < size_; ++r) {
+      auto buf = std::make_shared<std::vector<uint8_t>>(message);
+      sends_.push_back({MPI_REQUEST_NULL, buf});
+      MPI_Isend(buf->data(), int(buf->size()), MPI_BYTE, r, kTagPost, MPI_COMM_WORLD, &sends_.back().request);
+    }
+  }
+
+  std::vector<std::vector<uint8_t>> poll_results() override { return receive(kTagResult); }
+
+  void close() override {
+    post({});
+    int byes = 0;
+    while (byes < size_ - 1) {
+      receive(kTagResult);  // dropped
+      int flag = 0;
+      MPI_Status st;
+      MPI_Iprobe(MPI_ANY_SOURCE, kTagBye, MPI_COMM_WORLD, &flag, &st);
+      if (flag) {
+        MPI_Recv(nullptr, 0, MPI_BYTE, st.MPI_SOURCE, kTagBye, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+        ++byes;
+      } else {
+        std::this_thread::sleep_for(std::chrono::microseconds(200));
+      }
+    }
+    // Each worker completed its last send before saying goodbye: match what is left and complete every receive.
+    receive(kTagResult);
+    for (Pending& p : recvs_) MPI_Wait(&p.request, MPI_STATUS_IGNORE);
+    recvs_.clear();
+    for (Pending& p : sends_) MPI_Wait(&p.request, MPI_STATUS_IGNORE);
+    sends_.clear();
+  }
+
+  std::vector<std::vector<uint8_t>> poll_posts() override {
+    complete_sends();
+    std::vector<std::vector<uint8_t>> out;
+    for (;;) {  // posts are small: a blocking receive of a matched one does not wait
+      int flag = 0;
+      MPI_Status st;
+      MPI_Iprobe(0, kTagPost, MPI_COMM_WORLD, &flag, &st);
+      if (!flag) break;
+      int n = 0;
+      MPI_Get_count(&st, MPI_BYTE, &n);
+      out.emplace_back(size_t(n));
+      MPI_Recv(out.back().data(), n, MPI_BYTE, 0, kTagPost, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+    }
+    return out;
+  }
+
+  bool send_result(std::vector<uint8_t> message) override {
+    complete_sends();
+    if (!sends_.empty()) return false;
+    auto buf = std::make_shared<std::vector<uint8_t>>(std::move(message));
+    sends_.push_back({MPI_REQUEST_NULL, buf});
+    MPI_Isend(buf->data(), int(buf->size()), MPI_BYTE, 0, kTagResult, MPI_COMM_WORLD, &sends_.back().request);
+    return true;
+  }
+
+  void finish() override {
+    for (Pending& p : sends_) MPI_Wait(&p.request, MPI_STATUS_IGNORE);
+    sends_.clear();
+    MPI_Send(nullptr, 0, MPI_BYTE, 0, kTagBye, MPI_COMM_WORLD);
+  }
+
+ private:
+  struct Pending {
+    MPI_Request request;
+    std::shared_ptr<std::vector<uint8_t>> buffer;
+  };
+
+  void complete_sends() {
+    std::erase_if(sends_, [](Pending& p) {
+      int done = 0;
+      MPI_Test(&p.request, &done, MPI_STATUS_IGNORE);
+      return done != 0;
+    });
+  }
+
+  /// Starts receiving every matched message of `tag`, tests those in flight, returns the completed ones in the
+  /// order they were matched.
+  std::vector<std::vector<uint8_t>> receive(int tag) {
+    for (;;) {
+      int flag = 0;
+      MPI_Message msg;
+      MPI_Status st;
+      MPI_Improbe(MPI_ANY_SOURCE, tag, MPI_COMM_WORLD, &flag, &msg, &st);
+      if (!flag) break;
+      int n = 0;
+      MPI_Get_count(&st, MPI_BYTE, &n);
+      recvs_.push_back({MPI_REQUEST_NULL, std::make_shared<std::vector<uint8_t>>(size_t(n))});
+      MPI_Imrecv(recvs_.back().buffer->data(), n, MPI_BYTE, &msg, &recvs_.back().request);
+    }
+    std::vector<std::vector<uint8_t>> out;
+    while (!recvs_.empty()) {  // in order: a later message never overtakes an earlier one of the same rank
+      int done = 0;
+      MPI_Test(&recvs_.front().request, &done, MPI_STATUS_IGNORE);
+      if (!done) break;
+      out.push_back(std::move(*recvs_.front().buffer));
+      recvs_.erase(recvs_.begin());
+    }
+    return out;
+  }
+
+  int rank_, size_;
+  std::vector<Pending> sends_, recvs_;
+};
+
 class MpiCluster final : public Cluster {
  public:
   MpiCluster() {
@@ -77,6 +199,9 @@ class MpiCluster final : public Cluster {
     return std::max(1, cores / std::max(1, node_ranks_));
   }
   double comm_ms() const override { return comm_ms_; }
+  std::unique_ptr<OffloadChannel> offload_channel() override {
+    return size_ > 1 ? std::make_unique<MpiOffloadChannel>(rank_, size_) : nullptr;
+  }
 
   bool any(bool mine) override {
     Timer t(comm_ms_);
@@ -115,6 +240,13 @@ class MpiCluster final : public Cluster {
           },
           mine[b]);
     }
+  }
+
+  void broadcast(std::span<uint8_t> data) override {
+    Timer t(comm_ms_);
+    const size_t chunk = size_t(1) << 30;  // MPI counts are int
+    for (size_t off = 0; off < data.size(); off += chunk)
+      MPI_Bcast(data.data() + off, int(std::min(chunk, data.size() - off)), MPI_UINT8_T, 0, MPI_COMM_WORLD);
   }
 
   RenderCounters sum_counters(const RenderCounters& mine) override {

@@ -1,0 +1,355 @@
+#include "view/offload.h"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cstring>
+#include <future>
+#include <thread>
+#include <type_traits>
+
+#include "render/render_scene.h"
+#include "render/renderer.h"
+
+namespace pt {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+/// Sample indices of rank r start at r * 2^24: no rank reaches another's range before 16 million samples per pixel.
+constexpr int kRankSampleShift = 24;
+/// A worker starts on a new epoch this long after it arrived: rank 0's first look at the epoch (a low-resolution
+/// preview of about 10 ms, render/session.h) then has the cores to itself, which keeps the restart latency of
+/// one process, and during a drag (an epoch every UI frame) no worker renders a frame that is stale at once.
+constexpr double kEpochSettleSeconds = 0.02;
+/// A worker sends its accumulation at most every 30 ms per million pixels (16 bytes a pixel; rank 0 replaces the
+/// previous one, only the newest counts): a large image does not keep rank 0's UI thread busy receiving.
+double send_interval_seconds(const Film& film) { return 0.03 * std::max(1.0, double(film.pixel_count()) * 1e-6); }
+
+/// The messages' byte layout: the fields in order, native endianness (every rank runs the same binary).
+struct Writer {
+  std::vector<uint8_t> bytes;
+  template <class T>
+  void pod(const T& v) {
+    static_assert(std::is_trivially_copyable_v<T>);
+    const auto* p = reinterpret_cast<const uint8_t*>(&v);
+    bytes.insert(bytes.end(), p, p + sizeof(T));
+  }
+  template <class T>
+  void vec(const std::vector<T>& v) {
+    static_assert(std::is_trivially_copyable_v<T>);
+    pod(uint64_t(v.size()));
+    const auto* p = reinterpret_cast<const uint8_t*>(v.data());
+    bytes.insert(bytes.end(), p, p + v.size() * sizeof(T));
+  }
+  void str(const std::string& s) { vec(std::vector<char>(s.begin(), s.end())); }
+};
+
+/// Reads what Writer wrote; a short or malformed message leaves ok false (and every value read past it zero).
+struct Reader {
+  const std::vector<uint8_t>& bytes;
+  size_t at = 0;
+  bool ok = true;
+  template <class T>
+  void pod(T& v) {
+    if (!ok || bytes.size() - at < sizeof(T)) {
+      ok = false;
+      v = T{};
+      return;
+    }
+    std::memcpy(&v, bytes.data() + at, sizeof(T));
+    at += sizeof(T);
+  }
+  template <class T>
+  void vec(std::vector<T>& v) {
+    uint64_t n = 0;
+    pod(n);
+    if (!ok || n > (bytes.size() - at) / sizeof(T)) {
+      ok = false;
+      v.clear();
+      return;
+    }
+    v.resize(size_t(n));
+    std::memcpy(v.data(), bytes.data() + at, size_t(n) * sizeof(T));
+    at += size_t(n) * sizeof(T);
+  }
+  void str(std::string& s) {
+    std::vector<char> c;
+    vec(c);
+    s.assign(c.begin(), c.end());
+  }
+};
+
+enum class Geometry : uint8_t { same, refit, rebuild };
+
+std::vector<uint8_t> encode_epoch(uint64_t epoch, const RenderParams& params, const Scene& scene, Geometry geometry) {
+  Writer w;
+  w.pod(epoch);
+  w.pod(params);
+  w.pod(scene.camera.value_or(Camera{}));
+  w.pod(uint8_t(scene.background.has_value()));
+  w.pod(scene.background.value_or(vec3(0.0f)));
+  w.pod(uint64_t(scene.materials.size()));
+  for (const Material& m : scene.materials) {
+    w.str(m.name);
+    w.pod(m.type);
+    w.pod(m.albedo);
+    w.pod(m.ior);
+    w.pod(m.emission);
+  }
+  w.pod(geometry);
+  if (geometry != Geometry::same) {
+    w.vec(scene.spheres);
+    w.vec(scene.quads);
+    w.pod(uint64_t(scene.meshes.size()));
+    for (const Mesh& m : scene.meshes) {
+      w.str(m.name);
+      w.pod(m.origin);
+      w.vec(m.positions);
+      w.vec(m.indices);
+      w.vec(m.normals);
+      w.vec(m.normal_indices);
+      w.vec(m.materials);
+    }
+  }
+  return std::move(w.bytes);
+}
+
+/// Applies an epoch message to `scene` and `params`; returns the geometry change, or nullopt if malformed.
+std::optional<Geometry> decode_epoch(const std::vector<uint8_t>& bytes, uint64_t& epoch, RenderParams& params,
+                                     Scene& scene) {
+  Reader r{bytes};
+  r.pod(epoch);
+  r.pod(params);
+  Camera cam;
+  r.pod(cam);
+  scene.camera = cam;
+  uint8_t has_bg = 0;
+  vec3 bg;
+  r.pod(has_bg);
+  r.pod(bg);
+  scene.background = has_bg ? std::optional<vec3>(bg) : std::nullopt;
+  uint64_t n = 0;
+  r.pod(n);
+  if (!r.ok || n > bytes.size()) return std::nullopt;
+  scene.materials.assign(size_t(n), Material{});
+  for (Material& m : scene.materials) {
+    r.str(m.name);
+    r.pod(m.type);
+    r.pod(m.albedo);
+    r.pod(m.ior);
+    r.pod(m.emission);
+  }
+  Geometry geometry = Geometry::same;
+  r.pod(geometry);
+  if (geometry != Geometry::same) {
+    r.vec(scene.spheres);
+    r.vec(scene.quads);
+    r.pod(n);
+    if (!r.ok || n > bytes.size()) return std::nullopt;
+    scene.meshes.assign(size_t(n), Mesh{});
+    for (Mesh& m : scene.meshes) {
+      r.str(m.name);
+      r.pod(m.origin);
+      r.vec(m.positions);
+      r.vec(m.indices);
+      r.vec(m.normals);
+      r.vec(m.normal_indices);
+      r.vec(m.materials);
+    }
+  }
+  if (!r.ok) return std::nullopt;
+  return geometry;
+}
+
+struct RankResult {
+  uint64_t epoch = 0;
+  int32_t rank = 0, width = 0, height = 0, spp = 0;
+  double seconds = 0.0;
+  std::vector<float> sum;
+  std::vector<uint32_t> count;
+};
+
+bool decode_result(const std::vector<uint8_t>& bytes, RankResult& out) {
+  Reader r{bytes};
+  r.pod(out.epoch);
+  r.pod(out.rank);
+  r.pod(out.width);
+  r.pod(out.height);
+  r.pod(out.spp);
+  r.pod(out.seconds);
+  r.vec(out.sum);
+  r.vec(out.count);
+  const size_t pixels = size_t(std::max(0, out.width)) * size_t(std::max(0, out.height));
+  return r.ok && out.sum.size() == 3 * pixels && out.count.size() == pixels;
+}
+
+}  // namespace
+
+std::vector<uint8_t> encode_offload_result(uint64_t epoch, int rank, int spp, double seconds, const Film& film) {
+  Writer w;
+  w.pod(epoch);
+  w.pod(int32_t(rank));
+  w.pod(int32_t(film.width));
+  w.pod(int32_t(film.height));
+  w.pod(int32_t(spp));
+  w.pod(seconds);
+  w.vec(std::vector<float>(film.sum.begin(), film.sum.end()));
+  w.vec(film.count);
+  return std::move(w.bytes);
+}
+
+OffloadRoot::~OffloadRoot() {
+  if (channel_) channel_->close();
+}
+
+void OffloadRoot::post_epoch(uint64_t epoch, const RenderParams& params, const Scene& scene, int builds,
+                             int refits) {
+  if (!channel_) return;
+  Geometry g = builds != posted_builds_ ? Geometry::rebuild
+               : refits != posted_refits_ ? Geometry::refit
+                                          : Geometry::same;
+  posted_builds_ = builds;
+  posted_refits_ = refits;
+  posted_epoch_ = epoch;
+  channel_->post(encode_epoch(epoch, params, scene, g));
+}
+
+bool OffloadRoot::poll() {
+  if (!channel_) return false;
+  bool fresh = false;
+  for (const std::vector<uint8_t>& bytes : channel_->poll_results()) {
+    RankResult res;
+    if (!decode_result(bytes, res) || res.rank < 1 || res.rank > int(remote_.size())) continue;
+    if (res.epoch != posted_epoch_) continue;  // stale: an edit came after it was rendered
+    Remote& r = remote_[size_t(res.rank - 1)];
+    r.epoch = res.epoch;
+    r.width = res.width;
+    r.height = res.height;
+    r.spp = res.spp;
+    r.seconds = res.seconds;
+    r.sum = std::move(res.sum);
+    r.count = std::move(res.count);
+    fresh = true;
+  }
+  return fresh;
+}
+
+void OffloadRoot::merge(SessionFrame& out) const {
+  const size_t pixels = size_t(out.width) * size_t(out.height);
+  if (out.preview || out.count.size() != pixels || out.image.rgb.size() != 3 * pixels) return;
+  std::vector<const Remote*> use;
+  for (const Remote& r : remote_)
+    if (r.epoch == out.epoch && r.width == out.width && r.height == out.height) use.push_back(&r);
+  if (use.empty()) return;
+  for (size_t p = 0; p < pixels; ++p) {
+    double n = out.count[p];
+    double s[3] = {out.image.rgb[3 * p] * n, out.image.rgb[3 * p + 1] * n, out.image.rgb[3 * p + 2] * n};
+    for (const Remote* r : use) {
+      n += r->count[p];
+      for (int c = 0; c < 3; ++c) s[c] += r->sum[3 * p + size_t(c)];
+    }
+    for (int c = 0; c < 3; ++c) out.image.rgb[3 * p + size_t(c)] = n > 0 ? float(s[c] / n) : 0.0f;
+  }
+  for (const Remote* r : use) out.spp += r->spp;
+}
+
+bool OffloadRoot::fetch(RenderSession& session, SessionFrame& out) {
+  const bool own = session.fetch(own_);
+  const bool remote = poll();
+  if (!own && !(remote && own_.epoch == posted_epoch_ && !own_.preview)) return false;
+  if (own_.revision == 0) return false;  // nothing published yet
+  out = own_;
+  merge(out);
+  return true;
+}
+
+std::vector<RankContribution> OffloadRoot::contributions() const {
+  std::vector<RankContribution> out;
+  out.push_back({0, own_.preview ? 0 : own_.spp, own_.seconds});
+  for (size_t i = 0; i < remote_.size(); ++i) {
+    const Remote& r = remote_[i];
+    bool current = r.epoch == own_.epoch && !own_.preview;
+    out.push_back({int(i) + 1, current ? r.spp : 0, current ? r.seconds : 0.0});
+  }
+  return out;
+}
+
+int run_offload_worker(OffloadChannel& channel, int rank, int threads) {
+  Renderer renderer(threads);
+  Scene scene;
+  RenderParams params;
+  std::shared_ptr<const RenderGeometry> geo;
+  std::shared_ptr<const RenderScene> rs;
+  uint64_t epoch = 0;
+  Film film;
+  std::vector<uint32_t> first;  // zeros: every pixel's range starts at the rank's base
+  RenderCounters counters;
+  int frames = 0;
+  double seconds = 0.0;
+  std::atomic<bool> cancel{false};
+  std::future<bool> job;
+  Clock::time_point job_start, last_send, epoch_start;
+  const uint32_t base = uint32_t(rank) << kRankSampleShift;
+  for (;;) {
+    std::vector<std::vector<uint8_t>> posts = channel.poll_posts();
+    if (!posts.empty() && job.valid()) {  // the frame in flight reads the state the posts change: stop it first
+      cancel = true;
+      job.wait();  // the next tile at most
+      job = {};
+      cancel = false;
+    }
+    bool stop = false, fresh = false;
+    Geometry change = Geometry::same;
+    for (const std::vector<uint8_t>& msg : posts) {
+      if (msg.empty()) {
+        stop = true;
+        break;
+      }
+      std::optional<Geometry> g = decode_epoch(msg, epoch, params, scene);
+      if (!g) continue;
+      fresh = true;
+      change = std::max(change, *g);
+    }
+    if (stop) break;
+    if (fresh) {
+      if (change == Geometry::rebuild || !geo) geo = make_render_geometry(scene);
+      else if (change == Geometry::refit) geo = refit_render_geometry(*geo, scene);
+      rs = std::make_shared<RenderScene>(make_render_scene(scene, geo));
+      film.reset(params.width, params.height);
+      first.assign(film.pixel_count(), 0);
+      counters = {};
+      frames = 0;
+      seconds = 0.0;
+      epoch_start = Clock::now();
+    }
+    if (job.valid() && job.wait_for(std::chrono::seconds(0)) == std::future_status::ready) {
+      bool done = job.get();
+      if (done) {
+        ++frames;
+        seconds += std::chrono::duration<double>(Clock::now() - job_start).count();
+        if (frames == 1 || std::chrono::duration<double>(Clock::now() - last_send).count() >= send_interval_seconds(film)) {
+          if (channel.send_result(encode_offload_result(epoch, rank, frames * params.spp_per_frame, seconds, film)))
+            last_send = Clock::now();
+        }
+      }
+    }
+    const int64_t next = int64_t(frames) * params.spp_per_frame;
+    const bool settled = std::chrono::duration<double>(Clock::now() - epoch_start).count() >= kEpochSettleSeconds;
+    if (rs && settled && !job.valid() && next + params.spp_per_frame < (int64_t(1) << kRankSampleShift)) {
+      job_start = Clock::now();
+      const uint32_t offset = base + uint32_t(next);
+      job = std::async(std::launch::async, [&, offset] {
+        return renderer.render_range(*rs, params, film, nullptr, first.data(), offset, counters, &cancel);
+      });
+    }
+    // Poll about every millisecond: a new epoch cancels the frame in flight within a tile.
+    if (job.valid()) job.wait_for(std::chrono::milliseconds(1));
+    else std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  channel.finish();
+  return 0;
+}
+
+}  // namespace pt
