@@ -60,6 +60,18 @@ struct LoopResult {
   double render_seconds = 0.0;
 };
 
+/// The end of a sharded render (both loops): the films not yet combined, the counters and each rank's work, reduced
+/// to rank 0, and the final progress line.
+void finish_shards(Cluster& cluster, Film& film, bool summed, const RankWork& mine, bool progress, int frames_total,
+                   RunSummary& run, Film& total, double& render_seconds) {
+  Clock::time_point t0 = Clock::now();
+  if (!summed) cluster.sum_films(film, total);
+  run.counters = cluster.sum_counters(run.counters);
+  render_seconds += seconds_since(t0);
+  run.per_rank = cluster.gather_work(mine);
+  if (progress) print_progress(run.frames, frames_total, run.spp, render_seconds, run.counters.rays(), true);
+}
+
 /// One process: progressive frames through a ProgressiveFilm, ending at --frames, --max-spp, --time-limit, or when
 /// adaptive sampling has stopped every pixel.
 LoopResult render_single(const AppOptions& options, const RenderScene& rs, Renderer& renderer, RunSummary& run,
@@ -125,12 +137,7 @@ LoopResult render_sharded(const AppOptions& options, const RenderScene& rs, Rend
     if (progress) print_progress(run.frames, frames_total, run.spp, render_seconds, run.counters.rays(), false);
     if (options.time_limit && cluster.any(seconds_since(start) >= *options.time_limit)) break;
   }
-  Clock::time_point t0 = Clock::now();
-  if (!summed) cluster.sum_films(film, total);
-  run.counters = cluster.sum_counters(run.counters);
-  render_seconds += seconds_since(t0);
-  run.per_rank = cluster.gather_work(mine);
-  if (progress) print_progress(run.frames, frames_total, run.spp, render_seconds, run.counters.rays(), true);
+  finish_shards(cluster, film, summed, mine, progress, frames_total, run, total, render_seconds);
   return {std::move(total), render_seconds};
 }
 
@@ -207,12 +214,7 @@ LoopResult render_sharded_adaptive(const AppOptions& options, const RenderScene&
     if (progress) print_progress(run.frames, frames_total, run.spp, render_seconds, run.counters.rays(), false);
     if (options.time_limit && cluster.any(seconds_since(start) >= *options.time_limit)) break;
   }
-  Clock::time_point t0 = Clock::now();
-  if (!summed) cluster.sum_films(film, total);
-  run.counters = cluster.sum_counters(run.counters);
-  render_seconds += seconds_since(t0);
-  run.per_rank = cluster.gather_work(mine);
-  if (progress) print_progress(run.frames, frames_total, run.spp, render_seconds, run.counters.rays(), true);
+  finish_shards(cluster, film, summed, mine, progress, frames_total, run, total, render_seconds);
   if (cluster.root()) {
     run.convergence.est_rel_mse = est_rel_mse(total);
     run.convergence.spp = spp_summary(total);
