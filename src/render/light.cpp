@@ -82,6 +82,12 @@ bool rect_solid_angle_usable(const Light& light, vec3 ref, SphericalRectangle& s
          sr.solid_angle >= kMinSolidAngle && sr.solid_angle <= kMaxSolidAngle;
 }
 
+/// The same choice for triangles (spherical triangles, Arvo 1995); sample_light and light_pdf both ask here.
+bool tri_solid_angle_usable(const Light& light, vec3 ref, SphericalTriangle& st) {
+  return make_spherical_triangle(ref, light.p0, light.e1, light.e2, st) && st.solid_angle >= kMinSolidAngle &&
+         st.solid_angle <= kMaxSolidAngle;
+}
+
 bool sample_sphere(const Light& light, vec3 ref, vec2 u, LightSample& out) {
   const vec3 c = light.p0;
   const float r = light.radius;
@@ -153,6 +159,14 @@ bool sample_light(const Light& light, vec3 ref, vec2 u, LightSampling mode, Ligh
     }
     case LightKind::triangle: {
       if (!(light.area > 0.0f) || glm::dot(ref - light.p0, light.n) <= 0.0f) return false;
+      SphericalTriangle st;
+      if (mode == LightSampling::solid_angle && tri_solid_angle_usable(light, ref, st)) {
+        vec3 p = sample_spherical_triangle(st, u);
+        vec3 err = gamma_bound(6) * (glm::abs(light.p0) + glm::abs(light.e1) + glm::abs(light.e2));
+        if (!finish_planar(light, ref, p, err, out)) return false;
+        out.pdf = 1.0f / st.solid_angle;
+        return true;
+      }
       vec3 b = sample_uniform_triangle(u);
       vec3 p = light.p0 + b.y * light.e1 + b.z * light.e2;
       vec3 err = gamma_bound(4) * (glm::abs(light.p0) + glm::abs(light.e1) + glm::abs(light.e2));
@@ -174,9 +188,12 @@ float light_pdf(const Light& light, vec3 ref, vec3 wi, float dist, vec3 n_light,
       if (mode == LightSampling::solid_angle && rect_solid_angle_usable(light, ref, sr)) return 1.0f / sr.solid_angle;
       return area_to_solid_angle(1.0f / light.area, dist, glm::dot(wi, n_light));
     }
-    case LightKind::triangle:
+    case LightKind::triangle: {
       if (!(light.area > 0.0f) || glm::dot(ref - light.p0, light.n) <= 0.0f) return 0.0f;
+      SphericalTriangle st;
+      if (mode == LightSampling::solid_angle && tri_solid_angle_usable(light, ref, st)) return 1.0f / st.solid_angle;
       return area_to_solid_angle(1.0f / light.area, dist, glm::dot(wi, n_light));
+    }
     case LightKind::sphere:
       return sphere_pdf(light, ref);
   }
