@@ -174,24 +174,27 @@ bool make_spherical_triangle(vec3 ref, vec3 p0, vec3 e1, vec3 e2, SphericalTrian
   const float ab2 = glm::dot(ab, ab), ac2 = glm::dot(ac, ac), bc2 = glm::dot(bc, bc);
   const float solid_angle = 2.0f * std::atan2(det, 4.0f - 0.5f * (ab2 + ac2 + bc2));  // Van Oosterom-Strackee
   if (!(det > 0.0f) || !(solid_angle > 0.0f) || !std::isfinite(solid_angle)) return false;
-  // The interior angle at a is the angle between the planes (a, b) and (a, c): sin and cos of it, times
+  // The interior angle at a is the angle between the planes (a, b) and (a, c): its sine and cosine, times
   // |a x b| |a x c|, are |a.(b x c)| and (a x b).(a x c) = b.c - (a.b)(a.c) = ab.ac - |ab|^2 |ac|^2 / 4.
-  const float alpha = std::atan2(det, glm::dot(ab, ac) - 0.25f * ab2 * ac2);
+  const float cos_scaled = glm::dot(ab, ac) - 0.25f * ab2 * ac2;
+  const float scale = std::sqrt(det * det + cos_scaled * cos_scaled);
   const vec3 tangent = ac + (0.5f * ac2) * a;  // c - (a.c) a: the direction of the arc a -> c at a
-  const float tangent_len = glm::length(tangent), sum_ab = glm::length(a + b);
-  if (!(alpha > 0.0f) || !(tangent_len > 0.0f) || !(sum_ab > 0.0f)) return false;
+  const float tangent_len = glm::length(tangent), sum_ab = glm::length(a + b), sum_ac = glm::length(a + c);
+  if (!(scale > 0.0f) || !(tangent_len > 0.0f) || !(sum_ab > 0.0f) || !(sum_ac > 0.0f)) return false;
   st.o = ref;
   st.p0 = p0;
   st.e1 = e1;
   st.e2 = e2;
   st.a = a;
   st.b = b;
+  st.c = c;
   st.c_perp = tangent / tangent_len;
-  st.alpha = alpha;
+  st.sin_alpha = det / scale;
+  st.cos_alpha = cos_scaled / scale;
   st.tan_half_ab = std::sqrt(ab2) / sum_ab;  // tan(theta / 2) = |x - y| / |x + y| for unit x, y
-  st.arc_ac = 2.0f * std::atan2(std::sqrt(ac2), glm::length(a + c));
+  st.tan_half_ac = std::sqrt(ac2) / sum_ac;
   st.solid_angle = solid_angle;
-  return std::isfinite(st.tan_half_ab);
+  return std::isfinite(st.tan_half_ab) && std::isfinite(st.tan_half_ac);
 }
 
 vec3 sample_spherical_triangle(const SphericalTriangle& st, vec2 u) {
@@ -199,12 +202,16 @@ vec3 sample_spherical_triangle(const SphericalTriangle& st, vec2 u) {
   // then a point on the arc b -> c' uniform in 1 - cos of its distance to b. Arvo writes cos|ac'| as a ratio of
   // differences of products of sines and cosines, which cancel for small triangles; we solve the half-angle
   // excess formula tan(E / 2) = t tan(|ac'| / 2) sin(alpha) / (1 + t tan(|ac'| / 2) cos(alpha)), t = tan(|ab| / 2),
-  // for the arc instead: tan(|ac'| / 2) = sin(A' / 2) / (t sin(alpha - A' / 2)), with both sines of well-scaled
-  // arguments (alpha - A' / 2 lies in (0, pi) for every A' up to the full area).
+  // for the arc instead: tan(|ac'| / 2) = y / x with y = sin(A' / 2), x = t sin(alpha - A' / 2) (positive for every
+  // A' up to the full area), and take cos and sin of the arc from that tangent without any inverse trigonometry.
   const float half = 0.5f * u.x * st.solid_angle;
-  float arc = 2.0f * std::atan2(std::sin(half), st.tan_half_ab * std::sin(st.alpha - half));
-  arc = std::clamp(arc, 0.0f, st.arc_ac);
-  const vec3 cp = std::cos(arc) * st.a + std::sin(arc) * st.c_perp;
+  const float y = std::sin(half), ch = std::cos(half);
+  const float x = st.tan_half_ab * (st.sin_alpha * ch - st.cos_alpha * y);
+  vec3 cp = st.c;  // the whole arc: u.x = 1, or rounding past it
+  if (x > 0.0f && y < x * st.tan_half_ac) {
+    const float r2 = x * x + y * y;
+    cp = ((x - y) * (x + y) / r2) * st.a + (2.0f * x * y / r2) * st.c_perp;
+  }
   const vec3 d = cp - st.b;
   const float k = 0.5f * glm::dot(d, d);  // 1 - b.c', from the chord
   const float one_minus_cos = u.y * k;

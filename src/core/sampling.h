@@ -49,12 +49,11 @@ vec3 sample_spherical_rectangle(const SphericalRectangle& sr, vec2 u);
 /// far from constant for a large or nearby triangle; this one is exactly constant, 1 / solid_angle.
 struct SphericalTriangle {
   vec3 o{0.0f}, p0{0.0f}, e1{0.0f}, e2{0.0f};  ///< ref and the triangle, to turn a direction into a point
-  vec3 a{0.0f}, b{0.0f};   ///< unit directions from ref to p0 (Arvo's A) and to p0 + e1 (B)
-  vec3 c_perp{0.0f};       ///< unit tangent at a of the great-circle arc from a toward the third vertex
-  float alpha = 0;         ///< interior angle at a
-  float tan_half_ab = 0;   ///< tan of half the arc from a to b
-  float arc_ac = 0;        ///< length of the arc from a to the third vertex
-  float solid_angle = 0;   ///< steradians; 0 if degenerate (ref in the plane, ...)
+  vec3 a{0.0f}, b{0.0f}, c{0.0f};  ///< unit directions from ref to p0 (Arvo's A), p0 + e1 (B) and p0 + e2 (C)
+  vec3 c_perp{0.0f};               ///< unit tangent at a of the great-circle arc from a toward c
+  float sin_alpha = 0, cos_alpha = 0;  ///< of the interior angle at a
+  float tan_half_ab = 0, tan_half_ac = 0;  ///< tan of half the arcs a-b and a-c
+  float solid_angle = 0;           ///< steradians; 0 if degenerate (ref in the plane, ...)
 };
 /// Returns false (and solid_angle 0) when the triangle is degenerate as seen from ref. Float throughout: the solid
 /// angle is Van Oosterom and Strackee's 2 atan2(|a.(b x c)|, 1 + a.b + b.c + c.a) with the triple product taken
