@@ -200,6 +200,41 @@ float light_pdf(const Light& light, vec3 ref, vec3 wi, float dist, vec3 n_light,
   return 0.0f;
 }
 
+namespace {
+
+/// The point of the triangle (a, a + ab, a + ac) nearest to p: the Voronoi regions of its vertices, then of its
+/// edges, then the interior (Ericson, "Real-Time Collision Detection", 5.1.5).
+vec3 nearest_point_on_triangle(vec3 p, vec3 a, vec3 ab, vec3 ac) {
+  const vec3 ap = p - a;
+  const float d1 = glm::dot(ab, ap), d2 = glm::dot(ac, ap);
+  if (d1 <= 0.0f && d2 <= 0.0f) return a;
+  const vec3 bp = ap - ab;
+  const float d3 = glm::dot(ab, bp), d4 = glm::dot(ac, bp);
+  if (d3 >= 0.0f && d4 <= d3) return a + ab;
+  const vec3 cp = ap - ac;
+  const float d5 = glm::dot(ab, cp), d6 = glm::dot(ac, cp);
+  if (d6 >= 0.0f && d5 <= d6) return a + ac;
+  const float vc = d1 * d4 - d3 * d2;
+  if (vc <= 0.0f && d1 >= 0.0f && d3 <= 0.0f) return a + (d1 / (d1 - d3)) * ab;
+  const float vb = d5 * d2 - d1 * d6;
+  if (vb <= 0.0f && d2 >= 0.0f && d6 <= 0.0f) return a + (d2 / (d2 - d6)) * ac;
+  const float va = d3 * d6 - d5 * d4;
+  if (va <= 0.0f && d4 - d3 >= 0.0f && d5 - d6 >= 0.0f)
+    return a + ab + ((d4 - d3) / ((d4 - d3) + (d5 - d6))) * (ac - ab);
+  const float inv = 1.0f / (va + vb + vc);
+  return a + (vb * inv) * ab + (vc * inv) * ac;
+}
+
+}  // namespace
+
+float triangle_area_density_spread(const Light& light, vec3 ref) {
+  const vec3 n = ref - nearest_point_on_triangle(ref, light.p0, light.e1, light.e2);
+  const vec3 d0 = ref - light.p0, d1 = d0 - light.e1, d2 = d0 - light.e2;
+  const float r2_max = std::max(glm::dot(d0, d0), std::max(glm::dot(d1, d1), glm::dot(d2, d2)));
+  const float ratio = r2_max / glm::dot(n, n);
+  return ratio * std::sqrt(ratio);
+}
+
 void LightSet::finalize() {
   std::vector<float> weights(lights.size());
   for (size_t i = 0; i < lights.size(); ++i) weights[i] = light_power(lights[i]);

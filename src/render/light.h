@@ -58,4 +58,10 @@ struct LightSet {
   bool empty() const { return lights.empty(); }
 };
 
+/// How far uniform area sampling of a triangle light is from the solid-angle density at `ref`: the ratio of its
+/// largest to smallest solid-angle density over the triangle, (r_max / r_min)^3 (that density is A h / r^3 for a
+/// receiver at height h), with r_min the distance to the triangle's nearest point and r_max to its farthest vertex.
+/// The triangle's counterpart of the rectangles' per-receiver area / solid-angle choice.
+float triangle_area_density_spread(const Light& light, vec3 ref);
+
 }  // namespace pt

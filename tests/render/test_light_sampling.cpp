@@ -150,6 +150,28 @@ TEST(LightSampling, TrianglesOutsideTheSolidAngleRangeAreSampledByArea) {
   EXPECT_NEAR(r.expected_total / 400000, 1.0, 2e-3);
 }
 
+TEST(LightSampling, TriangleAreaDensitySpreadIsTheDistanceRatioCubed) {
+  // Against a brute force over points of the triangle (barycentric grid, plus its vertices and edges): the largest
+  // over the smallest distance, cubed. Receivers nearest to each vertex, each edge and the interior, and off-plane.
+  Light l = make_triangle_light(vec3(-0.5f, 1, -0.5f), vec3(0.5f, 1, -0.5f), vec3(0, 1, 0.7f), vec3(1));
+  const vec3 refs[] = {vec3(-1, 0.5f, -1), vec3(1, 0.2f, -1), vec3(0, 0.7f, 1.5f), vec3(0, 0.9f, -1),
+                       vec3(0.6f, 0.5f, 0.4f), vec3(-0.6f, 0.5f, 0.4f), vec3(0.05f, 0.8f, 0.0f), vec3(0.1f, -3, 0.2f)};
+  const int n = 400;
+  for (vec3 ref : refs) {
+    double r_min = 1e30, r_max = 0.0;
+    for (int i = 0; i <= n; ++i)
+      for (int j = 0; i + j <= n; ++j) {
+        dvec3 p = dvec3(l.p0) + (double(i) / n) * dvec3(l.e1) + (double(j) / n) * dvec3(l.e2);
+        double r = glm::length(p - dvec3(ref));
+        r_min = std::min(r_min, r);
+        r_max = std::max(r_max, r);
+      }
+    double expected = std::pow(r_max / r_min, 3.0);
+    EXPECT_NEAR(triangle_area_density_spread(l, ref), expected, 2e-3 * expected)
+        << ref.x << "," << ref.y << "," << ref.z;
+  }
+}
+
 TEST(LightSampling, SphereConeSamplingIsUniformInSolidAngle) {
   for (float dist : {1.5f, 40.0f}) {  // a wide cap, and a narrow one that takes the small-angle branch
     Light l = make_sphere_light(vec3(0, dist, 0), 0.5f, vec3(1));
