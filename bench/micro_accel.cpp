@@ -199,4 +199,17 @@ void BM_spherical_rectangle(benchmark::State& state) {
 }
 BENCHMARK(BM_spherical_rectangle);
 
+// Spherical triangle (Arvo 1995): the same, for half of that rectangle, as triangle lights do it.
+void BM_spherical_triangle(benchmark::State& state) {
+  const Batch& d = batch();
+  run_batch(state, [&](size_t i) {
+    SphericalTriangle st;
+    bool ok = make_spherical_triangle(d.refs[i], vec3(-0.5f, 1.0f, -0.5f), vec3(1, 0, 0), vec3(0, 0, 1), st);
+    vec3 p = ok ? sample_spherical_triangle(st, d.u[i]) : vec3(0.0f);
+    benchmark::DoNotOptimize(p);
+    return ok;
+  });
+}
+BENCHMARK(BM_spherical_triangle);
+
 }  // namespace

@@ -160,6 +160,80 @@ vec3 sample_spherical_rectangle(const SphericalRectangle& sr, vec2 u) {
   return sr.o + xu * sr.x + yv * sr.y + sr.z0 * sr.z;
 }
 
+bool make_spherical_triangle(vec3 ref, vec3 p0, vec3 e1, vec3 e2, SphericalTriangle& st) {
+  st = SphericalTriangle{};
+  const vec3 pa = p0 - ref, pb = pa + e1, pc = pa + e2;
+  const float la = glm::length(pa), lb = glm::length(pb), lc = glm::length(pc);
+  if (!(la > 0.0f) || !(lb > 0.0f) || !(lc > 0.0f) || !std::isfinite(la + lb + lc)) return false;
+  const vec3 a = pa / la, b = pb / lb, c = pc / lc;
+  // The triple product a.(b x c) = det(pa, e1, e2) / (la lb lc): from the exact edges, it does not cancel when the
+  // three directions are nearly parallel (a small or far triangle). Dot products of unit vectors are written as
+  // x.y = 1 - |x - y|^2 / 2: the chords are small where the dot products would round to 1.
+  const float det = std::abs(glm::dot(a, glm::cross(e1 / lb, e2 / lc)));
+  const vec3 ab = b - a, ac = c - a, bc = c - b;
+  const float ab2 = glm::dot(ab, ab), ac2 = glm::dot(ac, ac), bc2 = glm::dot(bc, bc);
+  const float solid_angle = 2.0f * std::atan2(det, 4.0f - 0.5f * (ab2 + ac2 + bc2));  // Van Oosterom-Strackee
+  if (!(det > 0.0f) || !(solid_angle > 0.0f) || !std::isfinite(solid_angle)) return false;
+  // The interior angle at a is the angle between the planes (a, b) and (a, c): its sine and cosine, times
+  // |a x b| |a x c|, are |a.(b x c)| and (a x b).(a x c) = b.c - (a.b)(a.c) = ab.ac - |ab|^2 |ac|^2 / 4.
+  const float cos_scaled = glm::dot(ab, ac) - 0.25f * ab2 * ac2;
+  const float scale = std::sqrt(det * det + cos_scaled * cos_scaled);
+  const vec3 tangent = ac + (0.5f * ac2) * a;  // c - (a.c) a: the direction of the arc a -> c at a
+  const float tangent_len = glm::length(tangent), sum_ab = glm::length(a + b), sum_ac = glm::length(a + c);
+  if (!(scale > 0.0f) || !(tangent_len > 0.0f) || !(sum_ab > 0.0f) || !(sum_ac > 0.0f)) return false;
+  st.o = ref;
+  st.p0 = p0;
+  st.e1 = e1;
+  st.e2 = e2;
+  st.a = a;
+  st.b = b;
+  st.c = c;
+  st.c_perp = tangent / tangent_len;
+  st.sin_alpha = det / scale;
+  st.cos_alpha = cos_scaled / scale;
+  st.tan_half_ab = std::sqrt(ab2) / sum_ab;  // tan(theta / 2) = |x - y| / |x + y| for unit x, y
+  st.tan_half_ac = std::sqrt(ac2) / sum_ac;
+  st.solid_angle = solid_angle;
+  return std::isfinite(st.tan_half_ab) && std::isfinite(st.tan_half_ac);
+}
+
+vec3 sample_spherical_triangle(const SphericalTriangle& st, vec2 u) {
+  // Arvo 1995: the point c' on the arc a -> c such that the triangle (a, b, c') has area A' = u.x * solid_angle,
+  // then a point on the arc b -> c' uniform in 1 - cos of its distance to b. Arvo writes cos|ac'| as a ratio of
+  // differences of products of sines and cosines, which cancel for small triangles; we solve the half-angle
+  // excess formula tan(E / 2) = t tan(|ac'| / 2) sin(alpha) / (1 + t tan(|ac'| / 2) cos(alpha)), t = tan(|ab| / 2),
+  // for the arc instead: tan(|ac'| / 2) = y / x with y = sin(A' / 2), x = t sin(alpha - A' / 2) (positive for every
+  // A' up to the full area), and take cos and sin of the arc from that tangent without any inverse trigonometry.
+  const float half = 0.5f * u.x * st.solid_angle;
+  const float y = std::sin(half), ch = std::cos(half);
+  const float x = st.tan_half_ab * (st.sin_alpha * ch - st.cos_alpha * y);
+  vec3 cp = st.c;  // the whole arc: u.x = 1, or rounding past it
+  if (x > 0.0f && y < x * st.tan_half_ac) {
+    const float r2 = x * x + y * y;
+    cp = ((x - y) * (x + y) / r2) * st.a + (2.0f * x * y / r2) * st.c_perp;
+  }
+  const vec3 d = cp - st.b;
+  const float k = 0.5f * glm::dot(d, d);  // 1 - b.c', from the chord
+  const float one_minus_cos = u.y * k;
+  const float cos_t = 1.0f - one_minus_cos, sin_t = safe_sqrt(one_minus_cos * (2.0f - one_minus_cos));
+  const vec3 tangent = d + k * st.b;  // c' - (b.c') b
+  const float tangent_len = glm::length(tangent);
+  const vec3 w = tangent_len > 0.0f ? cos_t * st.b + (sin_t / tangent_len) * tangent : st.b;
+  // The point where ref + t w meets the triangle, as barycentrics (Moller-Trumbore), clamped onto the triangle.
+  const vec3 s = st.o - st.p0, s1 = glm::cross(w, st.e2);
+  const float inv = 1.0f / glm::dot(s1, st.e1);
+  float b1 = glm::dot(s, s1) * inv, b2 = glm::dot(w, glm::cross(s, st.e1)) * inv;
+  if (!std::isfinite(b1) || !std::isfinite(b2)) b1 = b2 = 1.0f / 3.0f;  // w in the plane: only when degenerate
+  b1 = std::clamp(b1, 0.0f, 1.0f);
+  b2 = std::clamp(b2, 0.0f, 1.0f);
+  if (b1 + b2 > 1.0f) {
+    const float sum = b1 + b2;
+    b1 /= sum;
+    b2 /= sum;
+  }
+  return st.p0 + b1 * st.e1 + b2 * st.e2;
+}
+
 DiscreteDistribution::DiscreteDistribution(std::span<const float> weights) {
   const size_t n = weights.size();
   pmf_table.assign(n, 0.0f);

@@ -43,6 +43,27 @@ bool make_spherical_rectangle(vec3 ref, vec3 corner, vec3 ex, vec3 ey, Spherical
 /// A point on the rectangle; its density in solid angle at ref is 1 / solid_angle.
 vec3 sample_spherical_rectangle(const SphericalRectangle& sr, vec2 u);
 
+/// The solid angle subtended by the triangle (p0, p0 + e1, p0 + e2) at `ref`, with what is needed to sample it
+/// uniformly in solid angle (Arvo 1995, "Stratified Sampling of Spherical Triangles"; pbrt-v4's
+/// SampleSphericalTriangle). Uniform area sampling has a density in solid angle proportional to d^2 / cos, which is
+/// far from constant for a large or nearby triangle; this one is exactly constant, 1 / solid_angle.
+struct SphericalTriangle {
+  vec3 o{0.0f}, p0{0.0f}, e1{0.0f}, e2{0.0f};  ///< ref and the triangle, to turn a direction into a point
+  vec3 a{0.0f}, b{0.0f}, c{0.0f};  ///< unit directions from ref to p0 (Arvo's A), p0 + e1 (B) and p0 + e2 (C)
+  vec3 c_perp{0.0f};               ///< unit tangent at a of the great-circle arc from a toward c
+  float sin_alpha = 0, cos_alpha = 0;  ///< of the interior angle at a
+  float tan_half_ab = 0, tan_half_ac = 0;  ///< tan of half the arcs a-b and a-c
+  float solid_angle = 0;           ///< steradians; 0 if degenerate (ref in the plane, ...)
+};
+/// Returns false (and solid_angle 0) when the triangle is degenerate as seen from ref. Float throughout: the solid
+/// angle is Van Oosterom and Strackee's 2 atan2(|a.(b x c)|, 1 + a.b + b.c + c.a) with the triple product taken
+/// from the edges and the dot products from chord lengths, so small and grazing triangles keep their relative
+/// precision (the lights use it only above 3e-4 sr, as for rectangles).
+bool make_spherical_triangle(vec3 ref, vec3 p0, vec3 e1, vec3 e2, SphericalTriangle& out);
+/// A point on the triangle; its density in solid angle at ref is 1 / solid_angle. u.x picks the sub-triangle of
+/// area u.x * solid_angle, u.y the point along its last arc (Arvo's two steps, so strata of u stay strata).
+vec3 sample_spherical_triangle(const SphericalTriangle& st, vec2 u);
+
 /// A discrete distribution over indices, proportional to non-negative weights (used to pick a light by power).
 struct DiscreteDistribution {
   std::vector<float> cdf;  ///< size n + 1, cdf[0] = 0, cdf[n] = 1

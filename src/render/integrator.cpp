@@ -172,7 +172,7 @@ IntegratorKind resolve_integrator(const RenderScene& scene, IntegratorKind kind,
   if (kind != IntegratorKind::automatic) return kind;
   if (light_sampling == LightSampling::area) return IntegratorKind::mis;
   for (const Light& l : scene.lights.lights)
-    if (!(l.kind == LightKind::sphere || (l.kind == LightKind::rect && l.rectangular))) return IntegratorKind::mis;
+    if (l.kind == LightKind::rect && !l.rectangular) return IntegratorKind::mis;  // spheres, triangles: solid angle
   return IntegratorKind::nee;
 }
 

@@ -14,13 +14,13 @@ vec3 trace_path(const RenderScene& scene, const RenderParams& params, Ray ray, P
                 RenderCounters& counters);
 
 /// The integrator `kind` stands for in `scene`: itself, or for automatic, nee when every light is sampled in
-/// solid angle (spheres by their cone, rectangles by spherical rectangles: params.light_sampling is solid_angle or
-/// automatic, whose area-sampled receivers see the light small, where area and solid-angle densities agree) and
-/// mis otherwise. Why: the scenes have only diffuse, mirror and glass surfaces; mirror and glass cannot be
+/// solid angle (spheres by their cone, rectangles and triangles by spherical ones: light_sampling is solid_angle or
+/// automatic, whose area-sampled points see the light nearly uniformly, where area and solid-angle densities agree)
+/// and mis otherwise. Why: the scenes have only diffuse, mirror and glass surfaces; mirror and glass cannot be
 /// light-sampled, so both strategies count emission after them in full, and at a diffuse vertex a solid-angle light
 /// sample already has a density close to the integrand, so MIS only adds the BSDF-side light_pdf evaluation and
 /// weights that move variance onto cosine-sampled hits (bench-error, issue 11: nee beat mis on every Cornell
-/// scene). Where a light is sampled by area (triangles, non-rectangular parallelograms, --light-sampling area),
+/// scene). Where a light is sampled by area (non-rectangular parallelograms, --light-sampling area),
 /// the light sample's density blows up near the light's plane and MIS's BSDF side is what bounds it.
 IntegratorKind resolve_integrator(const RenderScene& scene, IntegratorKind kind, LightSampling light_sampling);
 

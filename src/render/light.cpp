@@ -84,7 +84,7 @@ constexpr float kMaxSolidAngle = 6.22f;
 /// receiver at height h above the light's plane, so the ratio is (r_max / r_min)^3, with r_max at a corner and
 /// r_min at the point of the rectangle nearest to ref. Where it is near 1, area sampling already has the spherical
 /// rectangle's density (which is constant) at a tenth of its cost.
-float area_density_spread(const Light& light, vec3 ref) {
+float rect_area_density_spread(const Light& light, vec3 ref) {
   vec3 d = ref - light.p0;
   float a = glm::dot(d, light.e1), b = glm::dot(d, light.e2);
   float l1 = glm::dot(light.e1, light.e1), l2 = glm::dot(light.e2, light.e2);
@@ -98,17 +98,29 @@ float area_density_spread(const Light& light, vec3 ref) {
   return ratio * std::sqrt(ratio);
 }
 
-/// Whether `mode` asks for solid-angle sampling of this rectangle at `ref` (before the usable-range check).
+/// Whether `mode` asks for solid-angle sampling of this rectangle or triangle at `ref` (before the usable-range
+/// check). Non-rectangular parallelograms have no spherical sampling: always by area.
 bool wants_solid_angle(const Light& light, vec3 ref, LightSampling mode, float auto_min_spread) {
-  if (mode == LightSampling::area || !light.rectangular) return false;
+  if (mode == LightSampling::area || (light.kind == LightKind::rect && !light.rectangular)) return false;
   if (mode == LightSampling::solid_angle) return true;
-  return !(area_density_spread(light, ref) < auto_min_spread);  // NaN (ref on the light): solid angle
+  const float spread = light.kind == LightKind::rect ? rect_area_density_spread(light, ref)
+                                                     : triangle_area_density_spread(light, ref);
+  return !(spread < auto_min_spread);  // NaN (ref on the light): solid angle
 }
 
 bool rect_solid_angle_usable(const Light& light, vec3 ref, LightSampling mode, float auto_min_spread,
                              SphericalRectangle& sr) {
-  return wants_solid_angle(light, ref, mode, auto_min_spread) && make_spherical_rectangle(ref, light.p0, light.e1, light.e2, sr) &&
-         sr.solid_angle >= kMinSolidAngle && sr.solid_angle <= kMaxSolidAngle;
+  return wants_solid_angle(light, ref, mode, auto_min_spread) &&
+         make_spherical_rectangle(ref, light.p0, light.e1, light.e2, sr) && sr.solid_angle >= kMinSolidAngle &&
+         sr.solid_angle <= kMaxSolidAngle;
+}
+
+/// The same choice for triangles (spherical triangles, Arvo 1995); sample_light and light_pdf both ask here.
+bool tri_solid_angle_usable(const Light& light, vec3 ref, LightSampling mode, float auto_min_spread,
+                            SphericalTriangle& st) {
+  return wants_solid_angle(light, ref, mode, auto_min_spread) &&
+         make_spherical_triangle(ref, light.p0, light.e1, light.e2, st) && st.solid_angle >= kMinSolidAngle &&
+         st.solid_angle <= kMaxSolidAngle;
 }
 
 bool sample_sphere(const Light& light, vec3 ref, vec2 u, LightSample& out) {
@@ -183,6 +195,14 @@ bool sample_light(const Light& light, vec3 ref, vec2 u, LightSampling mode, Ligh
     }
     case LightKind::triangle: {
       if (!(light.area > 0.0f) || glm::dot(ref - light.p0, light.n) <= 0.0f) return false;
+      SphericalTriangle st;
+      if (tri_solid_angle_usable(light, ref, mode, auto_min_spread, st)) {
+        vec3 p = sample_spherical_triangle(st, u);
+        vec3 err = gamma_bound(6) * (glm::abs(light.p0) + glm::abs(light.e1) + glm::abs(light.e2));
+        if (!finish_planar(light, ref, p, err, out)) return false;
+        out.pdf = 1.0f / st.solid_angle;
+        return true;
+      }
       vec3 b = sample_uniform_triangle(u);
       vec3 p = light.p0 + b.y * light.e1 + b.z * light.e2;
       vec3 err = gamma_bound(4) * (glm::abs(light.p0) + glm::abs(light.e1) + glm::abs(light.e2));
@@ -205,13 +225,51 @@ float light_pdf(const Light& light, vec3 ref, vec3 wi, float dist, vec3 n_light,
       if (rect_solid_angle_usable(light, ref, mode, auto_min_spread, sr)) return 1.0f / sr.solid_angle;
       return area_to_solid_angle(1.0f / light.area, dist, glm::dot(wi, n_light));
     }
-    case LightKind::triangle:
+    case LightKind::triangle: {
       if (!(light.area > 0.0f) || glm::dot(ref - light.p0, light.n) <= 0.0f) return 0.0f;
+      SphericalTriangle st;
+      if (tri_solid_angle_usable(light, ref, mode, auto_min_spread, st)) return 1.0f / st.solid_angle;
       return area_to_solid_angle(1.0f / light.area, dist, glm::dot(wi, n_light));
+    }
     case LightKind::sphere:
       return sphere_pdf(light, ref);
   }
   return 0.0f;
+}
+
+namespace {
+
+/// The point of the triangle (a, a + ab, a + ac) nearest to p: the Voronoi regions of its vertices, then of its
+/// edges, then the interior (Ericson, "Real-Time Collision Detection", 5.1.5).
+vec3 nearest_point_on_triangle(vec3 p, vec3 a, vec3 ab, vec3 ac) {
+  const vec3 ap = p - a;
+  const float d1 = glm::dot(ab, ap), d2 = glm::dot(ac, ap);
+  if (d1 <= 0.0f && d2 <= 0.0f) return a;
+  const vec3 bp = ap - ab;
+  const float d3 = glm::dot(ab, bp), d4 = glm::dot(ac, bp);
+  if (d3 >= 0.0f && d4 <= d3) return a + ab;
+  const vec3 cp = ap - ac;
+  const float d5 = glm::dot(ab, cp), d6 = glm::dot(ac, cp);
+  if (d6 >= 0.0f && d5 <= d6) return a + ac;
+  const float vc = d1 * d4 - d3 * d2;
+  if (vc <= 0.0f && d1 >= 0.0f && d3 <= 0.0f) return a + (d1 / (d1 - d3)) * ab;
+  const float vb = d5 * d2 - d1 * d6;
+  if (vb <= 0.0f && d2 >= 0.0f && d6 <= 0.0f) return a + (d2 / (d2 - d6)) * ac;
+  const float va = d3 * d6 - d5 * d4;
+  if (va <= 0.0f && d4 - d3 >= 0.0f && d5 - d6 >= 0.0f)
+    return a + ab + ((d4 - d3) / ((d4 - d3) + (d5 - d6))) * (ac - ab);
+  const float inv = 1.0f / (va + vb + vc);
+  return a + (vb * inv) * ab + (vc * inv) * ac;
+}
+
+}  // namespace
+
+float triangle_area_density_spread(const Light& light, vec3 ref) {
+  const vec3 n = ref - nearest_point_on_triangle(ref, light.p0, light.e1, light.e2);
+  const vec3 d0 = ref - light.p0, d1 = d0 - light.e1, d2 = d0 - light.e2;
+  const float r2_max = std::max(glm::dot(d0, d0), std::max(glm::dot(d1, d1), glm::dot(d2, d2)));
+  const float ratio = r2_max / glm::dot(n, n);
+  return ratio * std::sqrt(ratio);
 }
 
 void LightSet::finalize() {

@@ -6,8 +6,8 @@ namespace {
 
 /// Two triangles that share an edge, face the same way and together form a parallelogram (the way OBJ and glTF
 /// quads arrive: a quad split along a diagonal): its corner and edges, oriented like the triangles, so the pair
-/// becomes one parallelogram light (solid-angle sampled when it is a rectangle) instead of two area-sampled
-/// triangles. Exact vertex sharing and a tight tolerance on the parallelogram condition (the diagonals' midpoints
+/// becomes one parallelogram light (solid-angle sampled when it is a rectangle) instead of two triangle
+/// lights. Exact vertex sharing and a tight tolerance on the parallelogram condition (the diagonals' midpoints
 /// coincide), so the light is the triangles' surface and light_pdf matches hits on either triangle.
 bool parallelogram_of(const vec3* a, const vec3* b, vec3& corner, vec3& e1, vec3& e2) {
   int shared_a[2], shared_b[2], n = 0;

@@ -259,8 +259,8 @@ TEST(SphereLight, IrradianceBelowASphereMatchesClosedForm) {
 TEST(LightPdf, SampleAndPdfAgreeForEveryLightKind) {
   // MIS is only unbiased if light_pdf returns the density sample_light used. Every light faces the box its
   // reference points are drawn from, and every (light, mode) pair must be checked often; the small and the large
-  // rectangle are placed so that their solid angle crosses the solid-angle/area switch (3e-4 and 6.22 sr) inside
-  // the box, and both sides of the switch must be seen.
+  // rectangles and triangles are placed so that their solid angle crosses the solid-angle/area switch (3e-4 and
+  // 6.22 sr) inside the box, and both sides of the switch must be seen.
   struct Case {
     const char* name;
     Light light;
@@ -278,6 +278,11 @@ TEST(LightPdf, SampleAndPdfAgreeForEveryLightKind) {
        vec3(-1, 0.0f, -1), vec3(1, 0.9999f, 1), 6.22f},
       {"triangle", make_triangle_light(vec3(-0.5f, 1, -0.5f), vec3(0.5f, 1, -0.5f), vec3(0, 1, 0.7f), vec3(1)),
        vec3(-2, -0.5f, -2), vec3(2, 0.9f, 2), 0.0f},
+      {"small triangle",
+       make_triangle_light(vec3(-0.01f, 1, -0.01f), vec3(0.01f, 1, -0.01f), vec3(-0.01f, 1, 0.01f), vec3(1)),
+       vec3(-0.3f, -0.5f, -0.3f), vec3(0.3f, 0.5f, 0.3f), 3e-4f},
+      {"large triangle", make_triangle_light(vec3(-20, 1, -20), vec3(60, 1, -20), vec3(-20, 1, 60), vec3(1)),
+       vec3(-1, 0.0f, -1), vec3(1, 0.9999f, 1), 6.22f},
       {"sphere", make_sphere_light(vec3(0, 1.5f, 0), 0.4f, vec3(1)), vec3(-2, -0.5f, -2), vec3(2, 0.9f, 2), 0.0f},
       {"tiny sphere", make_sphere_light(vec3(0, 400.0f, 0), 0.01f, vec3(1)), vec3(-2, -0.5f, -2), vec3(2, 0.9f, 2),
        0.0f},
@@ -298,8 +303,11 @@ TEST(LightPdf, SampleAndPdfAgreeForEveryLightKind) {
         ++checked;
         if (c.switch_at > 0.0f) {
           SphericalRectangle sr;
-          make_spherical_rectangle(ref, c.light.p0, c.light.e1, c.light.e2, sr);
-          (sr.solid_angle < c.switch_at ? below : above)++;
+          SphericalTriangle st;
+          if (c.light.kind == LightKind::triangle) make_spherical_triangle(ref, c.light.p0, c.light.e1, c.light.e2, st);
+          else make_spherical_rectangle(ref, c.light.p0, c.light.e1, c.light.e2, sr);
+          float solid_angle = c.light.kind == LightKind::triangle ? st.solid_angle : sr.solid_angle;
+          (solid_angle < c.switch_at ? below : above)++;
         }
       }
       EXPECT_GE(checked, 1000) << c.name << " mode " << int(mode);

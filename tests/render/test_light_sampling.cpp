@@ -1,6 +1,6 @@
 // Light sampling against its claimed densities (chi-square), through sample_light, the code the integrator runs:
 // rectangle lights by area and by solid angle, a two-triangle OBJ-style light merged into one parallelogram light,
-// sphere lights by cone.
+// triangle lights by solid angle, sphere lights by cone.
 #include <gtest/gtest.h>
 
 #include "../core/chi_square.h"
@@ -12,8 +12,8 @@
 namespace pt {
 namespace {
 
-// 5 chi-square tests in this file; Bonferroni keeps the family's false alarm rate below 1%.
-const double kAlpha = 0.01 / 5;
+// 8 chi-square tests in this file; Bonferroni keeps the family's false alarm rate below 1%.
+const double kAlpha = 0.01 / 8;
 
 /// Chi-square of sample_light's points on a rectangle light over the rectangle's (a, b) parameters against the
 /// density it claims: pdf(omega) * d omega / d(a, b) = ls.pdf * area * cos_l / dist^2 must be what sample_light
@@ -93,6 +93,85 @@ TEST(LightSampling, TwoTrianglesOfAQuadBecomeOneSolidAngleSampledLight) {
   EXPECT_NEAR(r.expected_total / 400000, 1.0, 2e-3);
 }
 
+/// The same for a triangle light, over the (x, y) in [0,1]^2 of the inverse square-root warp (b1 + b2 = sqrt(x),
+/// b1 = sqrt(x) y), which is uniform by area: the claimed density there is ls.pdf * area * cos_l / dist^2.
+test::ChiSquareResult tri_chi_square(const Light& l, vec3 ref, LightSampling mode, uint64_t seed) {
+  const dvec3 e1(l.e1), e2(l.e2);
+  const double g11 = glm::dot(e1, e1), g12 = glm::dot(e1, e2), g22 = glm::dot(e2, e2), det = g11 * g22 - g12 * g12;
+  auto sample = [&](vec2 u) {
+    LightSample ls;
+    if (!sample_light(l, ref, u, mode, ls)) return vec2(-1.0f);
+    const dvec3 q = dvec3(ls.point.p) - dvec3(l.p0);
+    const double r1 = glm::dot(q, e1), r2 = glm::dot(q, e2);
+    const double b1 = (g22 * r1 - g12 * r2) / det, b2 = (g11 * r2 - g12 * r1) / det, s = b1 + b2;
+    return vec2(float(s * s), s > 0.0 ? float(b1 / s) : 0.0f);
+  };
+  auto density = [&](vec2 x) {
+    const float s = std::sqrt(x.x);
+    vec3 d = l.p0 + s * x.y * l.e1 + s * (1.0f - x.y) * l.e2 - ref;
+    double dist = glm::length(d);
+    double cos_l = std::abs(glm::dot(d, l.n)) / dist;
+    float pdf = light_pdf(l, ref, vec3(d / float(dist)), float(dist), l.n, mode);
+    return double(pdf) * l.area * cos_l / (dist * dist);
+  };
+  return test::chi_square_2d(sample, density, 20, 20, 400000, seed);
+}
+
+TEST(LightSampling, TriangleBySolidAngleFollowsItsPdf) {
+  // Below a triangle (0.48 sr), close to it (5.5 sr: a density in area far from uniform) and far away (6.5e-3 sr).
+  Light l = make_triangle_light(vec3(-0.5f, 1, -0.5f), vec3(0.5f, 1, -0.5f), vec3(0, 1, 0.7f), vec3(1));  // faces -y
+  const vec3 refs[] = {vec3(0.1f, 0.0f, 0.1f), vec3(0.05f, 0.95f, -0.1f), vec3(3.0f, -6.0f, 4.0f)};
+  for (int i = 0; i < 3; ++i) {
+    SphericalTriangle st;
+    ASSERT_TRUE(make_spherical_triangle(refs[i], l.p0, l.e1, l.e2, st));
+    ASSERT_GT(st.solid_angle, 3e-4f);  // inside the solid-angle range, so this is the spherical-triangle path
+    ASSERT_LT(st.solid_angle, 6.22f);
+    LightSample ls;
+    ASSERT_TRUE(sample_light(l, refs[i], vec2(0.3f, 0.6f), LightSampling::solid_angle, ls));
+    EXPECT_FLOAT_EQ(ls.pdf, 1.0f / st.solid_angle);
+    auto r = tri_chi_square(l, refs[i], LightSampling::solid_angle, 25 + i);
+    EXPECT_GT(r.p_value, kAlpha) << "ref " << i << " " << r.describe();
+    EXPECT_NEAR(r.expected_total / 400000, 1.0, 2e-3) << "ref " << i;
+  }
+}
+
+TEST(LightSampling, TrianglesOutsideTheSolidAngleRangeAreSampledByArea) {
+  // 1.5e-4 sr, below the 3e-4 sr floor: the pdf is the area one, and sample_light's points still follow it.
+  Light l = make_triangle_light(vec3(-0.5f, 1, -0.5f), vec3(0.5f, 1, -0.5f), vec3(0, 1, 0.7f), vec3(1));
+  vec3 ref(10.0f, -60.0f, 5.0f);
+  SphericalTriangle st;
+  ASSERT_TRUE(make_spherical_triangle(ref, l.p0, l.e1, l.e2, st));
+  ASSERT_LT(st.solid_angle, 3e-4f);
+  LightSample ls;
+  ASSERT_TRUE(sample_light(l, ref, vec2(0.3f, 0.6f), LightSampling::solid_angle, ls));
+  EXPECT_NEAR(ls.pdf, ls.dist * ls.dist / (l.area * -glm::dot(ls.wi, l.n)), 1e-3f * ls.pdf);
+  auto r = tri_chi_square(l, ref, LightSampling::solid_angle, 28);
+  EXPECT_GT(r.p_value, kAlpha) << r.describe();
+  EXPECT_NEAR(r.expected_total / 400000, 1.0, 2e-3);
+}
+
+TEST(LightSampling, TriangleAreaDensitySpreadIsTheDistanceRatioCubed) {
+  // Against a brute force over points of the triangle (barycentric grid, plus its vertices and edges): the largest
+  // over the smallest distance, cubed. Receivers nearest to each vertex, each edge and the interior, and off-plane.
+  Light l = make_triangle_light(vec3(-0.5f, 1, -0.5f), vec3(0.5f, 1, -0.5f), vec3(0, 1, 0.7f), vec3(1));
+  const vec3 refs[] = {vec3(-1, 0.5f, -1), vec3(1, 0.2f, -1), vec3(0, 0.7f, 1.5f), vec3(0, 0.9f, -1),
+                       vec3(0.6f, 0.5f, 0.4f), vec3(-0.6f, 0.5f, 0.4f), vec3(0.05f, 0.8f, 0.0f), vec3(0.1f, -3, 0.2f)};
+  const int n = 400;
+  for (vec3 ref : refs) {
+    double r_min = 1e30, r_max = 0.0;
+    for (int i = 0; i <= n; ++i)
+      for (int j = 0; i + j <= n; ++j) {
+        dvec3 p = dvec3(l.p0) + (double(i) / n) * dvec3(l.e1) + (double(j) / n) * dvec3(l.e2);
+        double r = glm::length(p - dvec3(ref));
+        r_min = std::min(r_min, r);
+        r_max = std::max(r_max, r);
+      }
+    double expected = std::pow(r_max / r_min, 3.0);
+    EXPECT_NEAR(triangle_area_density_spread(l, ref), expected, 2e-3 * expected)
+        << ref.x << "," << ref.y << "," << ref.z;
+  }
+}
+
 TEST(LightSampling, SphereConeSamplingIsUniformInSolidAngle) {
   for (float dist : {1.5f, 40.0f}) {  // a wide cap, and a narrow one that takes the small-angle branch
     Light l = make_sphere_light(vec3(0, dist, 0), 0.5f, vec3(1));
@@ -117,18 +196,13 @@ TEST(LightSampling, SphereConeSamplingIsUniformInSolidAngle) {
   }
 }
 
-// LightSampling::automatic takes the spherical rectangle exactly where area sampling's solid-angle density spreads
-// by at least the asked factor over the rectangle (light.h, kAutoMinSpread): the spread is recomputed here by brute
-// force in double over a grid on the rectangle, and which sampling was taken is read off the returned pdfs (the
-// spherical rectangle's is 1 / solid angle for every sample; two samples of area sampling at different points almost
-// never both equal it). Reference points come from a box near the light and a wide one; both sides of the switch
-// must be seen, at both thresholds.
-TEST(LightSampling, AutomaticTakesSolidAngleWhereTheAreaDensitySpreads) {
-  const Light l = make_rect_light(vec3(-0.5f, 1, -0.4f), vec3(1, 0, 0), vec3(0, 0, 0.8f), vec3(1));
+/// Checks LightSampling::automatic's choice for light `l` (facing -y at y = 1) against a brute-force spread.
+void check_automatic_choice(const Light& l) {
+  const bool tri = l.kind == LightKind::triangle;
   auto spread = [&](vec3 ref) {
     double lo = 1e300, hi = 0.0;
     for (int i = 0; i <= 64; ++i)
-      for (int j = 0; j <= 64; ++j) {
+      for (int j = 0; j <= (tri ? 64 - i : 64); ++j) {
         dvec3 p = dvec3(l.p0) + (i / 64.0) * dvec3(l.e1) + (j / 64.0) * dvec3(l.e2);
         dvec3 d = dvec3(ref) - p;
         double r = glm::length(d), density = glm::dot(d, dvec3(l.n)) / (r * r * r);  // cos_l / r^2
@@ -152,19 +226,40 @@ TEST(LightSampling, AutomaticTakesSolidAngleWhereTheAreaDensitySpreads) {
         }
       }
       if (!ok) continue;
-      SphericalRectangle sr;
-      ASSERT_TRUE(make_spherical_rectangle(ref, l.p0, l.e1, l.e2, sr));
+      float solid_angle = 0.0f;
+      if (tri) {
+        SphericalTriangle st;
+        ASSERT_TRUE(make_spherical_triangle(ref, l.p0, l.e1, l.e2, st));
+        solid_angle = st.solid_angle;
+      } else {
+        SphericalRectangle sr;
+        ASSERT_TRUE(make_spherical_rectangle(ref, l.p0, l.e1, l.e2, sr));
+        solid_angle = sr.solid_angle;
+      }
       const bool took_solid_angle =
-          std::abs(ls[0].pdf * sr.solid_angle - 1.0f) < 1e-3f && std::abs(ls[1].pdf * sr.solid_angle - 1.0f) < 1e-3f;
+          std::abs(ls[0].pdf * solid_angle - 1.0f) < 1e-3f && std::abs(ls[1].pdf * solid_angle - 1.0f) < 1e-3f;
       const double s = spread(ref);
       if (std::abs(s / threshold - 1.0) < 0.02) continue;  // too close to call with a 64 x 64 grid
-      ASSERT_EQ(took_solid_angle, s >= threshold) << "spread " << s << " threshold " << threshold << " at " << ref.x
-                                                  << "," << ref.y << "," << ref.z;
+      ASSERT_EQ(took_solid_angle, s >= threshold) << (tri ? "triangle" : "rectangle") << " spread " << s
+                                                  << " threshold " << threshold << " at " << ref.x << "," << ref.y
+                                                  << "," << ref.z;
       (took_solid_angle ? solid : area)++;
     }
-    EXPECT_GE(solid, 200) << threshold;
-    EXPECT_GE(area, 200) << threshold;
+    EXPECT_GE(solid, 200) << threshold << (tri ? " triangle" : " rectangle");
+    EXPECT_GE(area, 200) << threshold << (tri ? " triangle" : " rectangle");
   }
+}
+
+// LightSampling::automatic takes the spherical rectangle or triangle exactly where area sampling's solid-angle
+// density spreads by at least the asked factor over the light (light.h, kAutoMinSpread): the spread is recomputed
+// here by brute force in double over a grid on the light, and which sampling was taken is read off the returned
+// pdfs (the spherical one's is 1 / solid angle for every sample; two samples of area sampling at different points almost
+// never both equal it). Reference points come from a box near the light and a wide one; both sides of the switch
+// must be seen, at both thresholds.
+TEST(LightSampling, AutomaticTakesSolidAngleWhereTheAreaDensitySpreads) {
+  for (const Light& l : {make_rect_light(vec3(-0.5f, 1, -0.4f), vec3(1, 0, 0), vec3(0, 0, 0.8f), vec3(1)),
+                         make_triangle_light(vec3(-0.5f, 1, -0.4f), vec3(0.5f, 1, -0.4f), vec3(-0.2f, 1, 0.5f), vec3(1))})
+    check_automatic_choice(l);
 }
 
 TEST(LightSampling, BackSideAndBehindGiveNothing) {
