@@ -17,6 +17,7 @@ Light make_rect_light(vec3 corner, vec3 edge1, vec3 edge2, vec3 emission) {
   l.n = l.area > 0.0f ? c / l.area : vec3(0, 0, 1);
   float l1 = glm::length(edge1), l2 = glm::length(edge2);
   l.rectangular = l.area > 0.0f && std::abs(glm::dot(edge1, edge2)) <= 1e-5f * l1 * l2;
+  if (l.rectangular) l.inv_len2 = vec2(1.0f / (l1 * l1), 1.0f / (l2 * l2));
   l.emission = emission;
   return l;
 }
@@ -79,23 +80,22 @@ bool finish_planar(const Light& light, vec3 ref, vec3 p, vec3 p_error, LightSamp
 constexpr float kMinSolidAngle = 3e-4f;
 constexpr float kMaxSolidAngle = 6.22f;
 
-/// How far uniform area sampling of a rectangle is from the solid-angle density at `ref`: the ratio of its largest
-/// to smallest solid-angle density over the rectangle. That density is A cos(theta_l) / r^2 = A h / r^3 for a
+/// Whether uniform area sampling of a rectangle is far from the solid-angle density at `ref`: whether the ratio of
+/// its largest to smallest solid-angle density over the rectangle (its spread) is at least k. That density is A cos(theta_l) / r^2 = A h / r^3 for a
 /// receiver at height h above the light's plane, so the ratio is (r_max / r_min)^3, with r_max at a corner and
 /// r_min at the point of the rectangle nearest to ref. Where it is near 1, area sampling already has the spherical
 /// rectangle's density (which is constant) at a tenth of its cost.
-float rect_area_density_spread(const Light& light, vec3 ref) {
+/// It runs for every light sample under LightSampling::automatic, so it is written without divisions or roots:
+/// spread >= k is (r_max^2 / r_min^2)^(3/2) >= k, that is (r_max^2)^3 >= k^2 (r_min^2)^3, compared in double.
+bool rect_area_density_spreads(const Light& light, vec3 ref, float k) {
   vec3 d = ref - light.p0;
-  float a = glm::dot(d, light.e1), b = glm::dot(d, light.e2);
-  float l1 = glm::dot(light.e1, light.e1), l2 = glm::dot(light.e2, light.e2);
-  vec3 nearest = light.p0 + std::clamp(a / l1, 0.0f, 1.0f) * light.e1 + std::clamp(b / l2, 0.0f, 1.0f) * light.e2;
-  vec3 n = ref - nearest;
-  float r2_min = glm::dot(n, n);
+  // ref's projection in the rectangle's edge coordinates (in [0, 1] over the rectangle)
+  float a = glm::dot(d, light.e1) * light.inv_len2.x, b = glm::dot(d, light.e2) * light.inv_len2.y;
+  vec3 n = d - std::clamp(a, 0.0f, 1.0f) * light.e1 - std::clamp(b, 0.0f, 1.0f) * light.e2;
   // The farthest corner: along each edge the far end is the one the projection is farther from.
-  vec3 far = light.p0 + (a < 0.5f * l1 ? light.e1 : vec3(0.0f)) + (b < 0.5f * l2 ? light.e2 : vec3(0.0f));
-  vec3 f = ref - far;
-  float ratio = glm::dot(f, f) / r2_min;
-  return ratio * std::sqrt(ratio);
+  vec3 f = d - (a < 0.5f ? light.e1 : vec3(0.0f)) - (b < 0.5f ? light.e2 : vec3(0.0f));
+  double r2_min = glm::dot(n, n), r2_max = glm::dot(f, f);
+  return r2_max * r2_max * r2_max >= double(k) * double(k) * (r2_min * r2_min * r2_min);
 }
 
 /// Whether `mode` asks for solid-angle sampling of this rectangle or triangle at `ref` (before the usable-range
@@ -103,9 +103,8 @@ float rect_area_density_spread(const Light& light, vec3 ref) {
 bool wants_solid_angle(const Light& light, vec3 ref, LightSampling mode, float auto_min_spread) {
   if (mode == LightSampling::area || (light.kind == LightKind::rect && !light.rectangular)) return false;
   if (mode == LightSampling::solid_angle) return true;
-  const float spread = light.kind == LightKind::rect ? rect_area_density_spread(light, ref)
-                                                     : triangle_area_density_spread(light, ref);
-  return !(spread < auto_min_spread);  // NaN (ref on the light): solid angle
+  if (light.kind == LightKind::rect) return rect_area_density_spreads(light, ref, auto_min_spread);
+  return !(triangle_area_density_spread(light, ref) < auto_min_spread);  // NaN (ref on the light): solid angle
 }
 
 bool rect_solid_angle_usable(const Light& light, vec3 ref, LightSampling mode, float auto_min_spread,

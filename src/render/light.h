@@ -26,6 +26,7 @@ struct Light {
   float radius = 0.0f;
   float area = 0.0f;
   bool rectangular = false;  ///< rect with orthogonal edges: solid-angle sampling applies
+  vec2 inv_len2{0.0f};       ///< rectangular: 1 / |e1|^2, 1 / |e2|^2 (for LightSampling::automatic's test)
   vec3 emission{0.0f};
 };
 
