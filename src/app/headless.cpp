@@ -266,11 +266,9 @@ int run_headless(const AppOptions& options, const Scene& scene, Cluster& cluster
   run.comm_ms = cluster.comm_ms();
   if (!cluster.root()) return 0;  // rank 0 writes every output
   const Film& film = result.film;
-  if (cluster.ranks() > 1 && !sharded_adaptive) {
-    ProgressiveFilm summary;  // the convergence figures of the combined film (adaptive sampling is off here)
-    summary.reset(film.width, film.height);
-    summary.film() = film;
-    run.convergence = summarize_convergence(summary);
+  if (cluster.ranks() > 1 && !sharded_adaptive) {  // the combined film's figures (no adaptive sampling here)
+    run.convergence.est_rel_mse = est_rel_mse(film);
+    run.convergence.spp = spp_summary(film);
   }
 
   int code = 0;
