@@ -60,17 +60,49 @@ struct LoopResult {
   double render_seconds = 0.0;
 };
 
-/// The end of a sharded render (both loops): the films not yet combined, the counters and each rank's work, reduced
-/// to rank 0, and the final progress line.
-void finish_shards(Cluster& cluster, Film& film, bool summed, const RankWork& mine, bool progress, int frames_total,
-                   RunSummary& run, Film& total, double& render_seconds) {
-  Clock::time_point t0 = Clock::now();
-  if (!summed) cluster.sum_films(film, total);
-  run.counters = cluster.sum_counters(run.counters);
-  render_seconds += seconds_since(t0);
-  run.per_rank = cluster.gather_work(mine);
-  if (progress) print_progress(run.frames, frames_total, run.spp, render_seconds, run.counters.rays(), true);
-}
+/// What both sharded loops keep: this rank's film and the combined one (on rank 0), this rank's work and the clock.
+/// end_round() is every round's tail, finish() the end of the render.
+struct ShardRun {
+  const AppOptions& options;
+  Cluster& cluster;
+  RunSummary& run;
+  Film film, total;
+  RankWork mine;
+  const bool progress;
+  const int frames_total;  ///< 0: until another limit
+  const Clock::time_point start = Clock::now();
+  double render_seconds = 0.0;  ///< rank 0: rendering and combining the ranks' films
+  bool summed = false;          ///< `total` holds the current round
+
+  ShardRun(const AppOptions& o, Cluster& c, RunSummary& r)
+      : options(o), cluster(c), run(r), film(o.render.width, o.render.height),
+        progress(::isatty(STDERR_FILENO) && c.root()), frames_total(o.frames.value_or(0)) {}
+
+  /// The tail of a round begun at t0: a CSV row when the round was combined, the progress line. Returns whether the
+  /// ranks agree that the time limit is reached.
+  bool end_round(Clock::time_point t0, std::ostringstream& error_csv, const std::optional<Image>& reference) {
+    render_seconds += seconds_since(t0);
+    if (summed && cluster.root()) append_error_row(error_csv, run, render_seconds, total, reference);
+    if (progress) print_progress(run.frames, frames_total, run.spp, render_seconds, run.counters.rays(), false);
+    return options.time_limit && cluster.any(seconds_since(start) >= *options.time_limit);
+  }
+
+  /// The end: the films not yet combined, the counters and each rank's work reduced to rank 0, the final progress
+  /// line, and the combined film's convergence figures (the adaptive ones are the adaptive loop's to add).
+  LoopResult finish() {
+    Clock::time_point t0 = Clock::now();
+    if (!summed) cluster.sum_films(film, total);
+    run.counters = cluster.sum_counters(run.counters);
+    render_seconds += seconds_since(t0);
+    run.per_rank = cluster.gather_work(mine);
+    if (progress) print_progress(run.frames, frames_total, run.spp, render_seconds, run.counters.rays(), true);
+    if (cluster.root()) {
+      run.convergence.est_rel_mse = est_rel_mse(total);
+      run.convergence.spp = spp_summary(total);
+    }
+    return {std::move(total), render_seconds};
+  }
+};
 
 /// One process: progressive frames through a ProgressiveFilm, ending at --frames, --max-spp, --time-limit, or when
 /// adaptive sampling has stopped every pixel.
@@ -110,35 +142,26 @@ LoopResult render_sharded(const AppOptions& options, const RenderScene& rs, Rend
                           std::ostringstream& error_csv, const std::optional<Image>& reference, Cluster& cluster) {
   const RenderParams& params = options.render;
   const int ranks = cluster.ranks();
-  Film film(params.width, params.height), total;
-  RankWork mine;
-  const bool progress = ::isatty(STDERR_FILENO) && cluster.root();
-  const int frames_total = options.frames.value_or(0);  // 0: until the time limit
-  const Clock::time_point start = Clock::now();
-  double render_seconds = 0.0;  // rank 0: rendering and combining the ranks' films
-  bool summed = false;          // `total` holds the current round
+  ShardRun s(options, cluster, run);
+  const int frames_total = s.frames_total;  // 0: until the time limit
   for (int round = 0; frames_total == 0 || int64_t(round) * ranks < frames_total; ++round) {
     Clock::time_point t0 = Clock::now();
     const int64_t frame = shard_frame(round, cluster.rank(), ranks);
     if (frames_total == 0 || frame < frames_total) {
-      renderer.render_frame(rs, params, film, uint32_t(frame), run.counters);
-      mine.spp += params.spp_per_frame;
-      mine.seconds += seconds_since(t0);
+      renderer.render_frame(rs, params, s.film, uint32_t(frame), run.counters);
+      s.mine.spp += params.spp_per_frame;
+      s.mine.seconds += seconds_since(t0);
     }
     run.frames = int(frames_after_rounds(round + 1, ranks, frames_total));
     run.spp = run.frames * params.spp_per_frame;
-    summed = false;
+    s.summed = false;
     if (!options.error_csv.empty()) {  // the same on every rank (collective): a CSV row per round
-      cluster.sum_films(film, total);
-      summed = true;
+      cluster.sum_films(s.film, s.total);
+      s.summed = true;
     }
-    render_seconds += seconds_since(t0);
-    if (summed && cluster.root()) append_error_row(error_csv, run, render_seconds, total, reference);
-    if (progress) print_progress(run.frames, frames_total, run.spp, render_seconds, run.counters.rays(), false);
-    if (options.time_limit && cluster.any(seconds_since(start) >= *options.time_limit)) break;
+    if (s.end_round(t0, error_csv, reference)) break;
   }
-  finish_shards(cluster, film, summed, mine, progress, frames_total, run, total, render_seconds);
-  return {std::move(total), render_seconds};
+  return s.finish();
 }
 
 /// Several ranks with adaptive sampling or --max-spp: every rank holds the combined film's state (each pixel's next
@@ -154,20 +177,15 @@ LoopResult render_sharded_adaptive(const AppOptions& options, const RenderScene&
   const RenderParams& params = options.render;
   const int ranks = cluster.ranks();
   const AdaptiveParams& adaptive = options.adaptive;
-  Film film(params.width, params.height), total;
-  const size_t pixels = film.pixel_count();
+  ShardRun s(options, cluster, run);
+  const size_t pixels = s.film.pixel_count();
   std::vector<uint32_t> first(pixels, 0);  // the combined film's `taken`
   std::vector<uint8_t> active(pixels, 1);
   size_t active_count = pixels;
   bool checked = false;
   int level = 0, frames = 0;
   int next_check = adaptive.enabled() ? effective_min_spp(adaptive) : std::numeric_limits<int>::max();
-  RankWork mine;
-  const bool progress = ::isatty(STDERR_FILENO) && cluster.root();
-  const int frames_total = options.frames.value_or(0);
-  const Clock::time_point start = Clock::now();
-  double render_seconds = 0.0;
-  bool summed = false;
+  const int frames_total = s.frames_total;
   auto more = [&](int lvl, int fr) {
     return (frames_total == 0 || fr < frames_total) && !(options.max_spp && lvl >= *options.max_spp);
   };
@@ -186,45 +204,37 @@ LoopResult render_sharded_adaptive(const AppOptions& options, const RenderScene&
       RenderParams p = params;
       auto [offset, spp] = plan[size_t(cluster.rank())];
       p.spp_per_frame = spp;
-      renderer.render_range(rs, p, film, adaptive.enabled() ? active.data() : nullptr, first.data(),
+      renderer.render_range(rs, p, s.film, adaptive.enabled() ? active.data() : nullptr, first.data(),
                             uint32_t(offset), run.counters);
-      mine.spp += spp;
-      mine.seconds += seconds_since(t0);
+      s.mine.spp += spp;
+      s.mine.seconds += seconds_since(t0);
     }
     for (size_t q = 0; q < pixels; ++q) first[q] += active[q] ? uint32_t(lvl - level) : 0u;
     level = lvl;
     frames += int(plan.size());
     run.frames = frames;
     run.spp = level;
-    summed = false;
+    s.summed = false;
     if (level >= next_check || !options.error_csv.empty()) {
-      cluster.sum_films(film, total);
-      summed = true;
+      cluster.sum_films(s.film, s.total);
+      s.summed = true;
     }
     if (level >= next_check) {
-      if (cluster.root()) active_count = compute_active_pixels(total, adaptive.noise_threshold,
-                                                               effective_min_spp(adaptive), active);
+      if (cluster.root()) compute_active_pixels(s.total, adaptive.noise_threshold, effective_min_spp(adaptive), active);
       cluster.broadcast(active);
       active_count = size_t(std::count(active.begin(), active.end(), uint8_t(1)));
       checked = true;
       next_check = level + kAdaptiveCheckInterval;
     }
-    render_seconds += seconds_since(t0);
-    if (summed && cluster.root()) append_error_row(error_csv, run, render_seconds, total, reference);
-    if (progress) print_progress(run.frames, frames_total, run.spp, render_seconds, run.counters.rays(), false);
-    if (options.time_limit && cluster.any(seconds_since(start) >= *options.time_limit)) break;
+    if (s.end_round(t0, error_csv, reference)) break;
   }
-  finish_shards(cluster, film, summed, mine, progress, frames_total, run, total, render_seconds);
-  if (cluster.root()) {
-    run.convergence.est_rel_mse = est_rel_mse(total);
-    run.convergence.spp = spp_summary(total);
-    if (adaptive.enabled()) {
-      if (checked) run.convergence.converged_fraction = 1.0 - double(active_count) / double(pixels);
-      run.convergence.noise_threshold = adaptive.noise_threshold;
-      run.convergence.min_spp = effective_min_spp(adaptive);
-    }
+  LoopResult result = s.finish();
+  if (cluster.root() && adaptive.enabled()) {
+    if (checked) run.convergence.converged_fraction = 1.0 - double(active_count) / double(pixels);
+    run.convergence.noise_threshold = adaptive.noise_threshold;
+    run.convergence.min_spp = effective_min_spp(adaptive);
   }
-  return {std::move(total), render_seconds};
+  return result;
 }
 
 }  // namespace
@@ -266,10 +276,6 @@ int run_headless(const AppOptions& options, const Scene& scene, Cluster& cluster
   run.comm_ms = cluster.comm_ms();
   if (!cluster.root()) return 0;  // rank 0 writes every output
   const Film& film = result.film;
-  if (cluster.ranks() > 1 && !sharded_adaptive) {  // the combined film's figures (no adaptive sampling here)
-    run.convergence.est_rel_mse = est_rel_mse(film);
-    run.convergence.spp = spp_summary(film);
-  }
 
   int code = 0;
   if (auto err = save_image(options.out, film.resolve(), options.display)) {
