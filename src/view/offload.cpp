@@ -83,6 +83,27 @@ struct Reader {
 
 enum class Geometry : uint8_t { same, refit, rebuild };
 
+/// A material's and a mesh's fields in message order, for Writer (const) and Reader alike: one list, so a field
+/// cannot be written and not read.
+template <class Archive, class M>
+void material_fields(Archive& a, M& m) {
+  a.str(m.name);
+  a.pod(m.type);
+  a.pod(m.albedo);
+  a.pod(m.ior);
+  a.pod(m.emission);
+}
+template <class Archive, class M>
+void mesh_fields(Archive& a, M& m) {
+  a.str(m.name);
+  a.pod(m.origin);
+  a.vec(m.positions);
+  a.vec(m.indices);
+  a.vec(m.normals);
+  a.vec(m.normal_indices);
+  a.vec(m.materials);
+}
+
 std::vector<uint8_t> encode_epoch(uint64_t epoch, const RenderParams& params, const Scene& scene, Geometry geometry) {
   Writer w;
   w.pod(epoch);
@@ -91,27 +112,13 @@ std::vector<uint8_t> encode_epoch(uint64_t epoch, const RenderParams& params, co
   w.pod(uint8_t(scene.background.has_value()));
   w.pod(scene.background.value_or(vec3(0.0f)));
   w.pod(uint64_t(scene.materials.size()));
-  for (const Material& m : scene.materials) {
-    w.str(m.name);
-    w.pod(m.type);
-    w.pod(m.albedo);
-    w.pod(m.ior);
-    w.pod(m.emission);
-  }
+  for (const Material& m : scene.materials) material_fields(w, m);
   w.pod(geometry);
   if (geometry != Geometry::same) {
     w.vec(scene.spheres);
     w.vec(scene.quads);
     w.pod(uint64_t(scene.meshes.size()));
-    for (const Mesh& m : scene.meshes) {
-      w.str(m.name);
-      w.pod(m.origin);
-      w.vec(m.positions);
-      w.vec(m.indices);
-      w.vec(m.normals);
-      w.vec(m.normal_indices);
-      w.vec(m.materials);
-    }
+    for (const Mesh& m : scene.meshes) mesh_fields(w, m);
   }
   return std::move(w.bytes);
 }
@@ -134,13 +141,7 @@ std::optional<Geometry> decode_epoch(const std::vector<uint8_t>& bytes, uint64_t
   r.pod(n);
   if (!r.ok || n > bytes.size()) return std::nullopt;
   scene.materials.assign(size_t(n), Material{});
-  for (Material& m : scene.materials) {
-    r.str(m.name);
-    r.pod(m.type);
-    r.pod(m.albedo);
-    r.pod(m.ior);
-    r.pod(m.emission);
-  }
+  for (Material& m : scene.materials) material_fields(r, m);
   Geometry geometry = Geometry::same;
   r.pod(geometry);
   if (geometry != Geometry::same) {
@@ -149,15 +150,7 @@ std::optional<Geometry> decode_epoch(const std::vector<uint8_t>& bytes, uint64_t
     r.pod(n);
     if (!r.ok || n > bytes.size()) return std::nullopt;
     scene.meshes.assign(size_t(n), Mesh{});
-    for (Mesh& m : scene.meshes) {
-      r.str(m.name);
-      r.pod(m.origin);
-      r.vec(m.positions);
-      r.vec(m.indices);
-      r.vec(m.normals);
-      r.vec(m.normal_indices);
-      r.vec(m.materials);
-    }
+    for (Mesh& m : scene.meshes) mesh_fields(r, m);
   }
   if (!r.ok) return std::nullopt;
   return geometry;
