@@ -122,6 +122,31 @@ bool tri_solid_angle_usable(const Light& light, vec3 ref, LightSampling mode, fl
          st.solid_angle <= kMaxSolidAngle;
 }
 
+/// A planar light can send light to `ref`: it has an area and `ref` is on its front side.
+bool planar_faces(const Light& light, vec3 ref) {
+  return light.area > 0.0f && !(glm::dot(ref - light.p0, light.n) <= 0.0f);
+}
+
+/// The bound on a point built from the light's corner and edges (pbrt-v4's error bounds, section 6.8): `ops`
+/// rounded operations on inputs of these magnitudes.
+vec3 planar_point_error(const Light& light, int ops) {
+  return gamma_bound(ops) * (glm::abs(light.p0) + glm::abs(light.e1) + glm::abs(light.e2));
+}
+
+/// A sample `p` drawn by a spherical rectangle or triangle of the given solid angle: density 1 / solid angle.
+bool finish_spherical(const Light& light, vec3 ref, vec3 p, float solid_angle, LightSample& out) {
+  if (!finish_planar(light, ref, p, planar_point_error(light, 6), out)) return false;
+  out.pdf = 1.0f / solid_angle;
+  return true;
+}
+
+/// A sample `p` drawn uniformly by area: density 1 / area, converted to solid angle at ref.
+bool finish_area(const Light& light, vec3 ref, vec3 p, LightSample& out) {
+  if (!finish_planar(light, ref, p, planar_point_error(light, 4), out)) return false;
+  out.pdf = area_to_solid_angle(1.0f / light.area, out.dist, glm::dot(out.wi, light.n));
+  return out.pdf > 0.0f;
+}
+
 bool sample_sphere(const Light& light, vec3 ref, vec2 u, LightSample& out) {
   const vec3 c = light.p0;
   const float r = light.radius;
@@ -177,37 +202,19 @@ bool sample_light(const Light& light, vec3 ref, vec2 u, LightSampling mode, Ligh
                   float auto_min_spread) {
   switch (light.kind) {
     case LightKind::rect: {
-      if (!(light.area > 0.0f) || glm::dot(ref - light.p0, light.n) <= 0.0f) return false;
+      if (!planar_faces(light, ref)) return false;
       SphericalRectangle sr;
-      if (rect_solid_angle_usable(light, ref, mode, auto_min_spread, sr)) {
-        vec3 p = sample_spherical_rectangle(sr, u);
-        vec3 err = gamma_bound(6) * (glm::abs(light.p0) + glm::abs(light.e1) + glm::abs(light.e2));
-        if (!finish_planar(light, ref, p, err, out)) return false;
-        out.pdf = 1.0f / sr.solid_angle;
-        return true;
-      }
-      vec3 p = light.p0 + u.x * light.e1 + u.y * light.e2;
-      vec3 err = gamma_bound(4) * (glm::abs(light.p0) + glm::abs(light.e1) + glm::abs(light.e2));
-      if (!finish_planar(light, ref, p, err, out)) return false;
-      out.pdf = area_to_solid_angle(1.0f / light.area, out.dist, glm::dot(out.wi, light.n));
-      return out.pdf > 0.0f;
+      if (rect_solid_angle_usable(light, ref, mode, auto_min_spread, sr))
+        return finish_spherical(light, ref, sample_spherical_rectangle(sr, u), sr.solid_angle, out);
+      return finish_area(light, ref, light.p0 + u.x * light.e1 + u.y * light.e2, out);
     }
     case LightKind::triangle: {
-      if (!(light.area > 0.0f) || glm::dot(ref - light.p0, light.n) <= 0.0f) return false;
+      if (!planar_faces(light, ref)) return false;
       SphericalTriangle st;
-      if (tri_solid_angle_usable(light, ref, mode, auto_min_spread, st)) {
-        vec3 p = sample_spherical_triangle(st, u);
-        vec3 err = gamma_bound(6) * (glm::abs(light.p0) + glm::abs(light.e1) + glm::abs(light.e2));
-        if (!finish_planar(light, ref, p, err, out)) return false;
-        out.pdf = 1.0f / st.solid_angle;
-        return true;
-      }
+      if (tri_solid_angle_usable(light, ref, mode, auto_min_spread, st))
+        return finish_spherical(light, ref, sample_spherical_triangle(st, u), st.solid_angle, out);
       vec3 b = sample_uniform_triangle(u);
-      vec3 p = light.p0 + b.y * light.e1 + b.z * light.e2;
-      vec3 err = gamma_bound(4) * (glm::abs(light.p0) + glm::abs(light.e1) + glm::abs(light.e2));
-      if (!finish_planar(light, ref, p, err, out)) return false;
-      out.pdf = area_to_solid_angle(1.0f / light.area, out.dist, glm::dot(out.wi, light.n));
-      return out.pdf > 0.0f;
+      return finish_area(light, ref, light.p0 + b.y * light.e1 + b.z * light.e2, out);
     }
     case LightKind::sphere:
       return sample_sphere(light, ref, u, out);
@@ -219,13 +226,13 @@ float light_pdf(const Light& light, vec3 ref, vec3 wi, float dist, vec3 n_light,
                 float auto_min_spread) {
   switch (light.kind) {
     case LightKind::rect: {
-      if (!(light.area > 0.0f) || glm::dot(ref - light.p0, light.n) <= 0.0f) return 0.0f;
+      if (!planar_faces(light, ref)) return 0.0f;
       SphericalRectangle sr;
       if (rect_solid_angle_usable(light, ref, mode, auto_min_spread, sr)) return 1.0f / sr.solid_angle;
       return area_to_solid_angle(1.0f / light.area, dist, glm::dot(wi, n_light));
     }
     case LightKind::triangle: {
-      if (!(light.area > 0.0f) || glm::dot(ref - light.p0, light.n) <= 0.0f) return 0.0f;
+      if (!planar_faces(light, ref)) return 0.0f;
       SphericalTriangle st;
       if (tri_solid_angle_usable(light, ref, mode, auto_min_spread, st)) return 1.0f / st.solid_angle;
       return area_to_solid_angle(1.0f / light.area, dist, glm::dot(wi, n_light));
