@@ -1,8 +1,10 @@
 #include "core/sampling.h"
 
 #include <algorithm>
+#include <bit>
 #include <numeric>
 
+#include "core/fast_trig.h"
 #include "core/frame.h"
 
 namespace pt {
@@ -48,75 +50,102 @@ vec3 sample_uniform_triangle(vec2 u) {
 
 namespace {
 
-/// atan2(p, q) for q > 0 as quarter * pi/2 + rest with |rest| <= pi/4: the quarters of a sum of such angles add
-/// exactly (as integers), so a small solid angle that is a difference of angles near pi/2 keeps the precision of
-/// its small parts.
-struct SplitAngle {
-  int quarter;
-  float rest;
+/// What the y inversion of a spherical rectangle needs of a chord end y seen from squared distance d2: with
+/// r = sqrt(d2 + y^2), the sine y / r, 1 / r, and 1 - y / r and 1 + y / r each without cancellation (the one that
+/// would cancel is d2 / (r (r + |y|))): what keeps the inversion exact where the chord is seen nearly end-on. One
+/// division, and no branch (the sign of y is random from one receiver to the next).
+struct ChordSine {
+  float sine, inv_r, one_minus, one_plus;
 };
-SplitAngle split_atan2(float p, float q) {
-  if (std::abs(p) <= q) return {0, std::atan(p / q)};
-  return {p > 0.0f ? 1 : -1, -std::atan(q / p)};
+ChordSine chord_sine(float y, float d2) {
+  const float a = std::abs(y), r = std::sqrt(d2 + y * y), ra = r + a;
+  const float inv = 1.0f / (r * ra);
+  const float inv_r = ra * inv, small = d2 * inv, large = ra * ra * inv;  // 1 / r, 1 - |y| / r, 1 + |y| / r
+  return {y * inv_r, inv_r, y > 0.0f ? small : large, y > 0.0f ? large : small};
 }
 
-/// 1 - y / sqrt(d2 + y^2) and 1 + y / sqrt(d2 + y^2), each without cancellation (the one that would cancel is
-/// rewritten as d2 / (r (r +- y))): what keeps the y inversion exact where the chord is seen nearly end-on.
-void one_minus_plus_sine(float y, float d2, float& minus, float& plus) {
-  float r = std::sqrt(d2 + y * y);
-  if (y > 0.0f) {
-    minus = d2 / (r * (r + y));
-    plus = 1.0f + y / r;
-  } else {
-    minus = 1.0f - y / r;
-    plus = d2 / (r * (r - y));
-  }
+/// 2^-e for the power of two 2^e <= m (m positive, normal, below 2^127): an exact scale factor without a division.
+float inverse_power_of_two(float m) {
+  return std::bit_cast<float>(0x7f000000u - (std::bit_cast<uint32_t>(m) & 0x7f800000u));
 }
 
 }  // namespace
 
-bool make_spherical_rectangle(vec3 ref, vec3 corner, vec3 ex, vec3 ey, SphericalRectangle& sr) {
-  sr = SphericalRectangle{};
-  float ex_len = glm::length(ex), ey_len = glm::length(ey);
+bool make_rectangle_frame(vec3 corner, vec3 ex, vec3 ey, RectangleFrame& rect) {
+  rect = RectangleFrame{};
+  const float ex_len = glm::length(ex), ey_len = glm::length(ey);
   if (!(ex_len > 0.0f) || !(ey_len > 0.0f) || !std::isfinite(ex_len * ey_len)) return false;
-  vec3 x = ex / ex_len, y = ey / ey_len, z = glm::cross(x, y);
-  vec3 d = corner - ref;
+  rect.corner = corner;
+  rect.x = ex / ex_len;
+  rect.y = ey / ey_len;
+  rect.z = glm::cross(rect.x, rect.y);
+  rect.len_x = ex_len;
+  rect.len_y = ey_len;
+  return true;
+}
+
+bool make_spherical_rectangle(vec3 ref, const RectangleFrame& rect, SphericalRectangle& sr) {
+  sr = SphericalRectangle{};
+  if (!(rect.len_x > 0.0f)) return false;
+  vec3 z = rect.z;
+  const vec3 d = rect.corner - ref;
   float z0 = glm::dot(d, z);
   if (z0 > 0.0f) {  // make z point away from the rectangle plane
     z = -z;
     z0 = -z0;
   }
   if (!(z0 < 0.0f)) return false;  // ref in the plane
-  float x0 = glm::dot(d, x), y0 = glm::dot(d, y), x1 = x0 + ex_len, y1 = y0 + ey_len;
+  const float x0 = glm::dot(d, rect.x), y0 = glm::dot(d, rect.y), x1 = x0 + rect.len_x, y1 = y0 + rect.len_y;
   // The solid angle is F(x1,y1) - F(x1,y0) - F(x0,y1) + F(x0,y0) with F(x,y) = atan(x y / (h R(x,y))), h = -z0,
   // R the distance to the corner (the closed form behind Urena et al.'s angles gamma_i = pi/2 + a_i, written with
-  // atan2 of well-conditioned products instead of acos of dot products of normals, so float suffices).
-  const float h = -z0, h2 = h * h;
-  auto corner_angle = [&](float cx, float cy) { return split_atan2(cx * cy, h * std::sqrt(cx * cx + cy * cy + h2)); };
-  SplitAngle a0 = corner_angle(x1, -y0), a1 = corner_angle(x1, y1), a2 = corner_angle(-x0, y1), a3 = corner_angle(x0, y0);
-  const float half_pi = 0.5f * kPi;
-  float solid_angle = float(a0.quarter + a1.quarter + a2.quarter + a3.quarter) * half_pi +
-                      ((a0.rest + a1.rest) + (a2.rest + a3.rest));
+  // atan2 of well-conditioned products instead of acos of dot products of normals, so float suffices). The four
+  // corner angles are added two by two as arguments of complex products (q0 + i p0)(q1 + i p1): each term has
+  // q > 0, so a pair's sum lies in (-pi, pi) and one atan2 gives it. The lengths are scaled to at most 1 first,
+  // so the products of four lengths neither overflow nor underflow (the angles do not depend on the scale).
+  const float h = -z0;
+  const float longest = std::max(std::max(std::max(std::abs(x0), std::abs(x1)), std::max(std::abs(y0), std::abs(y1))), h);
+  if (!(longest < 0x1p126f)) return false;  // NaN or beyond the scale factor's range
+  const float scale = inverse_power_of_two(longest);
+  const float sh = h * scale, sh2 = sh * sh;
+  const float cx[4] = {x1 * scale, x1 * scale, -x0 * scale, x0 * scale};
+  const float cy[4] = {-y0 * scale, y1 * scale, y1 * scale, y0 * scale};
+  float p[4], q[4];
+  for (int i = 0; i < 4; ++i) {
+    p[i] = cx[i] * cy[i];
+    q[i] = sh * std::sqrt(cx[i] * cx[i] + cy[i] * cy[i] + sh2);
+  }
+  const SplitAngle a01 = split_atan2(q[0] * p[1] + p[0] * q[1], q[0] * q[1] - p[0] * p[1]);
+  const SplitAngle a23 = split_atan2(q[2] * p[3] + p[2] * q[3], q[2] * q[3] - p[2] * p[3]);
+  const float solid_angle = float(a01.quarter + a23.quarter) * (0.5f * kPi) + (a01.rest + a23.rest);
   if (!(solid_angle > 0.0f) || !std::isfinite(solid_angle)) return false;
   sr.o = ref;
-  sr.x = x;
-  sr.y = y;
+  sr.x = rect.x;
+  sr.y = rect.y;
   sr.z = z;
   sr.z0 = z0;
   sr.x0 = x0;
   sr.y0 = y0;
   sr.x1 = x1;
   sr.y1 = y1;
-  float r0 = std::sqrt(y0 * y0 + h2);
-  sr.b0 = -y0 / r0;
-  sr.b0p = h / r0;
-  sr.b1 = y1 / std::sqrt(y1 * y1 + h2);
-  one_minus_plus_sine(-y0, h2, sr.one_minus_b0, sr.one_plus_b0);
-  one_minus_plus_sine(y1, h2, sr.one_minus_b1, sr.one_plus_b1);
-  sr.k_quarters = a2.quarter + a3.quarter;
-  sr.k = a2.rest + a3.rest;
+  const ChordSine c0 = chord_sine(-y0, h * h), c1 = chord_sine(y1, h * h);
+  sr.b0 = c0.sine;
+  sr.b0p = h * c0.inv_r;
+  sr.b1 = c1.sine;
+  sr.k = a23.rest;
+  sr.odd_quarters = (a23.quarter & 1) != 0;
+  sr.quarter_sign = a23.quarter == 0 || a23.quarter == 1 ? 1.0f : -1.0f;
+  sr.even_sum = a23.quarter == 0 ? c1.one_plus - c0.one_minus : c0.one_minus - c1.one_minus;
   sr.solid_angle = solid_angle;
   return true;
+}
+
+bool make_spherical_rectangle(vec3 ref, vec3 corner, vec3 ex, vec3 ey, SphericalRectangle& out) {
+  RectangleFrame rect;
+  if (!make_rectangle_frame(corner, ex, ey, rect)) {
+    out = SphericalRectangle{};
+    return false;
+  }
+  return make_spherical_rectangle(ref, rect, out);
 }
 
 vec3 sample_spherical_rectangle(const SphericalRectangle& sr, vec2 u) {
@@ -128,29 +157,26 @@ vec3 sample_spherical_rectangle(const SphericalRectangle& sr, vec2 u) {
   // b0' = sqrt(1 - b0^2), which does not lose x to the rounding of cu near 1.
   const float h = -sr.z0;
   const float t = u.x * sr.solid_angle - sr.k;
-  const float st = std::sin(t), ct = std::cos(t);
-  float num, den;  // cos(delta) b0 + b1 and sin(delta), delta = au - pi = t - q pi / 2
-  if (sr.k_quarters == 0 || sr.k_quarters == 2 || sr.k_quarters == -2) {
-    const float sign = sr.k_quarters == 0 ? 1.0f : -1.0f;  // cos(delta) = sign cos t, sin(delta) = sign sin t
-    const float sin_half = std::sin(0.5f * t);
-    const float sum = sign > 0.0f ? sr.one_plus_b1 - sr.one_minus_b0 : sr.one_minus_b0 - sr.one_minus_b1;
-    num = sum - sign * sr.b0 * (2.0f * sin_half * sin_half);
-    den = sign * st;
-  } else {
-    const float sign = float(sr.k_quarters);  // q = 1: cos(delta) = sin t, sin(delta) = -cos t; q = -1: negated
-    num = sign * st * sr.b0 + sr.b1;
-    den = -sign * ct;
-  }
-  float fu = num / den;
-  float af = std::abs(fu);
-  float q = (af - sr.b0p) * (af + sr.b0p);
-  float xu = q > 0.0f ? std::copysign(h / std::sqrt(q), fu) : std::copysign(kInfinity, fu);
-  if (std::isnan(xu)) xu = 0.5f * (sr.x0 + sr.x1);  // only where delta and fu vanish together
+  const SinCos half = fast_sincos(0.5f * t);  // sin t = 2 s c, cos t = 1 - 2 s^2
+  const float sin_half = half.sin, sin_t = 2.0f * half.sin * half.cos, cos_t = 1.0f - 2.0f * sin_half * sin_half;
+  // num = cos(delta) b0 + b1 and den = sin(delta), delta = au - pi = t - q pi / 2. q even: cos(delta) = sign cos t,
+  // sin(delta) = sign sin t, and num = even_sum - sign b0 (1 - cos t) with 1 - cos t = 2 sin^2(t / 2). q odd:
+  // cos(delta) = sign sin t, sin(delta) = -sign cos t. Both are computed and one is selected: q varies from one
+  // receiver to the next, and a mispredicted branch costs more than the few multiplications.
+  const float sign = sr.quarter_sign;
+  const float num_even = sr.even_sum - sign * sr.b0 * (2.0f * sin_half * sin_half), den_even = sign * sin_t;
+  const float num_odd = sign * sin_t * sr.b0 + sr.b1, den_odd = -sign * cos_t;
+  const float num = sr.odd_quarters ? num_odd : num_even, den = sr.odd_quarters ? den_odd : den_even;
+  // fu = num / den; x = h sign(fu) / sqrt((|fu| - b0')(|fu| + b0')), multiplied through by |den|.
+  const float an = std::abs(num), ad = std::abs(den);
+  const float qq = std::max((an - sr.b0p * ad) * (an + sr.b0p * ad), 0.0f);
+  const uint32_t sign_bit = (std::bit_cast<uint32_t>(num) ^ std::bit_cast<uint32_t>(den)) & 0x80000000u;
+  float xu = std::bit_cast<float>(std::bit_cast<uint32_t>(h) ^ sign_bit) * ad / std::sqrt(qq);  // +-inf where qq = 0
+  xu = std::isnan(xu) ? 0.5f * (sr.x0 + sr.x1) : xu;  // only where delta and fu vanish together
   xu = std::clamp(xu, sr.x0, sr.x1);
-  float d2 = xu * xu + h * h;
-  float m0, p0, m1, p1;
-  one_minus_plus_sine(sr.y0, d2, m0, p0);
-  one_minus_plus_sine(sr.y1, d2, m1, p1);
+  const float d2 = xu * xu + h * h;
+  const ChordSine e0 = chord_sine(sr.y0, d2), e1 = chord_sine(sr.y1, d2);
+  const float m0 = e0.one_minus, p0 = e0.one_plus, m1 = e1.one_minus, p1 = e1.one_plus;
   // hv = h0 + u (h1 - h0) with h = sin of the elevation; 1 - hv and 1 + hv interpolated from their exact ends.
   float one_minus = m0 + u.y * (m1 - m0), one_plus = p0 + u.y * (p1 - p0);
   float hv = 0.5f * (one_plus - one_minus);
@@ -172,7 +198,8 @@ bool make_spherical_triangle(vec3 ref, vec3 p0, vec3 e1, vec3 e2, SphericalTrian
   const float det = std::abs(glm::dot(a, glm::cross(e1 / lb, e2 / lc)));
   const vec3 ab = b - a, ac = c - a, bc = c - b;
   const float ab2 = glm::dot(ab, ab), ac2 = glm::dot(ac, ac), bc2 = glm::dot(bc, bc);
-  const float solid_angle = 2.0f * std::atan2(det, 4.0f - 0.5f * (ab2 + ac2 + bc2));  // Van Oosterom-Strackee
+  const SplitAngle half_angle = split_atan2(det, 4.0f - 0.5f * (ab2 + ac2 + bc2));  // Van Oosterom-Strackee
+  const float solid_angle = float(half_angle.quarter) * kPi + 2.0f * half_angle.rest;
   if (!(det > 0.0f) || !(solid_angle > 0.0f) || !std::isfinite(solid_angle)) return false;
   // The interior angle at a is the angle between the planes (a, b) and (a, c): its sine and cosine, times
   // |a x b| |a x c|, are |a.(b x c)| and (a x b).(a x c) = b.c - (a.b)(a.c) = ab.ac - |ab|^2 |ac|^2 / 4.
@@ -205,7 +232,8 @@ vec3 sample_spherical_triangle(const SphericalTriangle& st, vec2 u) {
   // for the arc instead: tan(|ac'| / 2) = y / x with y = sin(A' / 2), x = t sin(alpha - A' / 2) (positive for every
   // A' up to the full area), and take cos and sin of the arc from that tangent without any inverse trigonometry.
   const float half = 0.5f * u.x * st.solid_angle;
-  const float y = std::sin(half), ch = std::cos(half);
+  const SinCos sc = fast_sincos(half);
+  const float y = sc.sin, ch = sc.cos;
   const float x = st.tan_half_ab * (st.sin_alpha * ch - st.cos_alpha * y);
   vec3 cp = st.c;  // the whole arc: u.x = 1, or rounding past it
   if (x > 0.0f && y < x * st.tan_half_ac) {

@@ -31,14 +31,27 @@ struct SphericalRectangle {
   vec3 o{0.0f}, x{1, 0, 0}, y{0, 1, 0}, z{0, 0, 1};  ///< local frame at ref, z toward the rectangle plane
   float z0 = 0, x0 = 0, y0 = 0, x1 = 0, y1 = 0;       ///< rectangle bounds in that frame
   float b0 = 0, b0p = 0, b1 = 0;                    ///< b0p = sqrt(1 - b0^2), computed without cancellation
-  float one_minus_b0 = 0, one_plus_b0 = 0, one_minus_b1 = 0, one_plus_b1 = 0;  ///< without cancellation
-  int k_quarters = 0;                               ///< Urena et al.'s k = pi - k_quarters pi/2 - k
-  float k = 0;
+  float k = 0;          ///< Urena et al.'s k is pi - q pi/2 - k for an integer q in -2..2 (the quarters)
+  bool odd_quarters = false;  ///< q odd
+  float quarter_sign = 1;     ///< +1 for q = 0 or 1, -1 for q = -1, 2 or -2
+  float even_sum = 0;         ///< q even: b1 + b0 (q = 0) or -(b1 + b0) (q = +-2), from the exact 1 -+ b terms
   float solid_angle = 0;                            ///< steradians; 0 if degenerate (ref in the plane, ...)
 };
+/// The part of a spherical rectangle that does not depend on the receiver: the corner, the unit edge directions x
+/// and y (orthogonal), z = x cross y and the side lengths. Lights compute it once (render/light.cpp), so the
+/// per-sample setup has no normalisation left.
+struct RectangleFrame {
+  vec3 corner{0.0f}, x{1, 0, 0}, y{0, 1, 0}, z{0, 0, 1};
+  float len_x = 0, len_y = 0;
+};
+/// Returns false (and len_x 0) for an edge of zero or non-finite length.
+bool make_rectangle_frame(vec3 corner, vec3 ex, vec3 ey, RectangleFrame& out);
 /// Returns false (and solid_angle 0) when the rectangle is degenerate as seen from ref. Float throughout: the solid
 /// angle is a sum of corner angles split into exact quarter turns plus small remainders, which keeps about 1e-3
-/// relative precision down to 3e-4 sr (below that the lights fall back to area sampling).
+/// relative precision down to 3e-4 sr (below that the lights fall back to area sampling). Trigonometry comes from
+/// core/fast_trig.h: two atan2 per setup, one or two sin/cos per sample.
+bool make_spherical_rectangle(vec3 ref, const RectangleFrame& rect, SphericalRectangle& out);
+/// The same from the corner and edges (makes the frame first).
 bool make_spherical_rectangle(vec3 ref, vec3 corner, vec3 ex, vec3 ey, SphericalRectangle& out);
 /// A point on the rectangle; its density in solid angle at ref is 1 / solid_angle.
 vec3 sample_spherical_rectangle(const SphericalRectangle& sr, vec2 u);

@@ -17,7 +17,10 @@ Light make_rect_light(vec3 corner, vec3 edge1, vec3 edge2, vec3 emission) {
   l.n = l.area > 0.0f ? c / l.area : vec3(0, 0, 1);
   float l1 = glm::length(edge1), l2 = glm::length(edge2);
   l.rectangular = l.area > 0.0f && std::abs(glm::dot(edge1, edge2)) <= 1e-5f * l1 * l2;
-  if (l.rectangular) l.inv_len2 = vec2(1.0f / (l1 * l1), 1.0f / (l2 * l2));
+  if (l.rectangular) {
+    l.inv_len2 = vec2(1.0f / (l1 * l1), 1.0f / (l2 * l2));
+    l.rectangular = make_rectangle_frame(corner, edge1, edge2, l.rect_frame);
+  }
   l.emission = emission;
   return l;
 }
@@ -110,7 +113,7 @@ bool wants_solid_angle(const Light& light, vec3 ref, LightSampling mode, float a
 bool rect_solid_angle_usable(const Light& light, vec3 ref, LightSampling mode, float auto_min_spread,
                              SphericalRectangle& sr) {
   return wants_solid_angle(light, ref, mode, auto_min_spread) &&
-         make_spherical_rectangle(ref, light.p0, light.e1, light.e2, sr) && sr.solid_angle >= kMinSolidAngle &&
+         make_spherical_rectangle(ref, light.rect_frame, sr) && sr.solid_angle >= kMinSolidAngle &&
          sr.solid_angle <= kMaxSolidAngle;
 }
 

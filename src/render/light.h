@@ -27,6 +27,7 @@ struct Light {
   float area = 0.0f;
   bool rectangular = false;  ///< rect with orthogonal edges: solid-angle sampling applies
   vec2 inv_len2{0.0f};       ///< rectangular: 1 / |e1|^2, 1 / |e2|^2 (for LightSampling::automatic's test)
+  RectangleFrame rect_frame;  ///< rectangular: what spherical rectangles need of the light, computed once
   vec3 emission{0.0f};
 };
 
