@@ -20,8 +20,7 @@ vec2 sample_uniform_disk_concentric(vec2 u) {
     r = o.y;
     theta = 0.5f * kPi - 0.25f * kPi * (o.x / o.y);
   }
-  const SinCos sc = fast_sincos(theta);  // theta in [-pi/4, 3pi/4]: the polynomial, not the C library's call
-  return r * vec2(sc.cos, sc.sin);
+  return r * vec2(std::cos(theta), std::sin(theta));
 }
 
 vec3 sample_cosine_hemisphere(vec2 u) {
@@ -32,8 +31,8 @@ vec3 sample_cosine_hemisphere(vec2 u) {
 vec3 sample_uniform_sphere(vec2 u) {
   float z = 1.0f - 2.0f * u.x;
   float r = safe_sqrt(1.0f - z * z);
-  const SinCos sc = fast_sincos(kTwoPi * u.y);
-  return {r * sc.cos, r * sc.sin, z};
+  float phi = kTwoPi * u.y;
+  return {r * std::cos(phi), r * std::sin(phi), z};
 }
 
 vec3 sample_uniform_triangle(vec2 u) {

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 
-#include "core/fast_trig.h"
 #include "core/frame.h"
 
 namespace pt {
@@ -177,8 +176,7 @@ bool sample_sphere(const Light& light, vec3 ref, vec2 u, LightSample& out) {
   float sin_alpha = safe_sqrt(1.0f - cos_alpha * cos_alpha);
   float phi = u.y * kTwoPi;
   Frame frame = Frame::from_normal(to_center / d);
-  const SinCos sc = fast_sincos(phi);
-  vec3 n = frame.to_world(vec3(-sin_alpha * sc.cos, -sin_alpha * sc.sin, -cos_alpha));
+  vec3 n = frame.to_world(vec3(-sin_alpha * std::cos(phi), -sin_alpha * std::sin(phi), -cos_alpha));
   vec3 p = c + r * n;
   vec3 dir = p - ref;
   float dist = glm::length(dir);
