@@ -157,8 +157,8 @@ vec3 sample_spherical_rectangle(const SphericalRectangle& sr, vec2 u) {
   // b0' = sqrt(1 - b0^2), which does not lose x to the rounding of cu near 1.
   const float h = -sr.z0;
   const float t = u.x * sr.solid_angle - sr.k;
-  const SinCos half = fast_sincos(0.5f * t);  // sin t = 2 s c, cos t = 1 - 2 s^2
-  const float sin_half = half.sin, sin_t = 2.0f * half.sin * half.cos, cos_t = 1.0f - 2.0f * sin_half * sin_half;
+  const float sin_half = std::sin(0.5f * t), cos_half = std::cos(0.5f * t);  // one sincosf call
+  const float sin_t = 2.0f * sin_half * cos_half, cos_t = 1.0f - 2.0f * sin_half * sin_half;
   // num = cos(delta) b0 + b1 and den = sin(delta), delta = au - pi = t - q pi / 2. q even: cos(delta) = sign cos t,
   // sin(delta) = sign sin t, and num = even_sum - sign b0 (1 - cos t) with 1 - cos t = 2 sin^2(t / 2). q odd:
   // cos(delta) = sign sin t, sin(delta) = -sign cos t. Both are computed and one is selected: q varies from one
@@ -232,8 +232,7 @@ vec3 sample_spherical_triangle(const SphericalTriangle& st, vec2 u) {
   // for the arc instead: tan(|ac'| / 2) = y / x with y = sin(A' / 2), x = t sin(alpha - A' / 2) (positive for every
   // A' up to the full area), and take cos and sin of the arc from that tangent without any inverse trigonometry.
   const float half = 0.5f * u.x * st.solid_angle;
-  const SinCos sc = fast_sincos(half);
-  const float y = sc.sin, ch = sc.cos;
+  const float y = std::sin(half), ch = std::cos(half);
   const float x = st.tan_half_ab * (st.sin_alpha * ch - st.cos_alpha * y);
   vec3 cp = st.c;  // the whole arc: u.x = 1, or rounding past it
   if (x > 0.0f && y < x * st.tan_half_ac) {

@@ -49,7 +49,7 @@ bool make_rectangle_frame(vec3 corner, vec3 ex, vec3 ey, RectangleFrame& out);
 /// Returns false (and solid_angle 0) when the rectangle is degenerate as seen from ref. Float throughout: the solid
 /// angle is a sum of corner angles split into exact quarter turns plus small remainders, which keeps about 1e-3
 /// relative precision down to 3e-4 sr (below that the lights fall back to area sampling). Trigonometry comes from
-/// core/fast_trig.h: two atan2 per setup, one or two sin/cos per sample.
+/// core/fast_trig.h: two polynomial atan2 per setup; one sincosf per sample.
 bool make_spherical_rectangle(vec3 ref, const RectangleFrame& rect, SphericalRectangle& out);
 /// The same from the corner and edges (makes the frame first).
 bool make_spherical_rectangle(vec3 ref, vec3 corner, vec3 ex, vec3 ey, SphericalRectangle& out);
