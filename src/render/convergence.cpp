@@ -6,6 +6,33 @@
 
 namespace pt {
 
+namespace {
+
+dvec3 pixel_mean(const Film& film, size_t p) {
+  const double n = film.count[p];
+  return n > 0 ? dvec3(film.sum[3 * p], film.sum[3 * p + 1], film.sum[3 * p + 2]) / n : dvec3(0.0);
+}
+
+/// The mean of the pixel means of p's (up to) 8 neighbours that have samples: an estimate of p's value that does
+/// not contain any of p's own samples (see est_rel_mse in the header for why).
+dvec3 neighbour_mean(const Film& film, size_t p) {
+  const int w = film.width, h = film.height, x = int(p % size_t(w)), y = int(p / size_t(w));
+  dvec3 total(0.0);
+  int k = 0;
+  for (int yy = std::max(y - 1, 0); yy <= std::min(y + 1, h - 1); ++yy)
+    for (int xx = std::max(x - 1, 0); xx <= std::min(x + 1, w - 1); ++xx) {
+      const size_t q = size_t(yy) * size_t(w) + size_t(xx);
+      if (q == p || film.count[q] == 0) continue;
+      total += pixel_mean(film, q);
+      ++k;
+    }
+  return k ? total / double(k) : dvec3(0.0);
+}
+
+double lum(dvec3 c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }
+
+}  // namespace
+
 bool pixel_estimate(const Film& film, size_t p, PixelEstimate& e) {
   const double n = film.count[p], na = film.half_count[p], nb = n - na;
   const dvec3 s(film.sum[3 * p], film.sum[3 * p + 1], film.sum[3 * p + 2]);
@@ -18,7 +45,7 @@ bool pixel_estimate(const Film& film, size_t p, PixelEstimate& e) {
   const dvec3 sa(film.half_sum[3 * p], film.half_sum[3 * p + 1], film.half_sum[3 * p + 2]);
   const dvec3 a = sa / na, b = (s - sa) / nb, d = a - b;
   e.var_mean = d * d * (na * nb / (n * n));
-  e.scale = glm::min(a, b);
+  e.scale = glm::max(glm::min(a, b), neighbour_mean(film, p));
   return true;
 }
 
@@ -29,10 +56,6 @@ bool pixel_mean_variance(const Film& film, size_t p, dvec3& mean, dvec3& var_mea
   var_mean = e.var_mean;
   return known;
 }
-
-namespace {
-double lum(dvec3 c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }
-}  // namespace
 
 double pixel_rel_error(const Film& film, size_t p) {
   const double n = film.count[p], na = film.half_count[p], nb = n - na;

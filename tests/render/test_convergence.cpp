@@ -65,6 +65,39 @@ TEST(Estimator, UnknownUntilBothHalvesHoldSamples) {
   EXPECT_EQ(est_rel_mse(film), 0.0);
 }
 
+/// A 3x3 film: every neighbour of the centre gets two samples of value `neighbour` (one per half); the centre gets
+/// `a` in its A half and `b` in its B half.
+Film centre_film(float neighbour, float a, float b) {
+  Film film(3, 3);
+  for (size_t p = 0; p < 9; ++p) {
+    film.add(p, vec3(p == 4 ? a : neighbour), 0);
+    film.add(p, vec3(p == 4 ? b : neighbour), 1);
+  }
+  return film;
+}
+
+// est_rel_mse's relative scale is max(min(A, B), mean of the 8 neighbours): a pixel whose few samples missed the
+// rare bright paths its neighbours saw (a caustic at low spp) is measured against the neighbours' level, not its own
+// dark half.
+TEST(Estimator, RelativeScaleTakesTheNeighboursWhereThePixelMissedTheBrightPaths) {
+  const Film film = centre_film(4.0f, 0.1f, 0.5f);  // Var(mean) = (0.4)^2 / 4 = 0.04
+  // The stopping criterion keeps the conservative scale min(A, B) (see pixel_rel_error).
+  EXPECT_NEAR(pixel_rel_error(film, 4), std::sqrt(0.04 / (0.01 + 0.01)), 1e-6);
+  PixelEstimate e;
+  ASSERT_TRUE(pixel_estimate(film, 4, e));
+  EXPECT_NEAR(e.scale.x, 4.0, 1e-6);
+}
+
+// ... and the pixel's own firefly never raises its scale: with dark neighbours it is measured against its
+// firefly-free half, so the firefly's error shows in full.
+TEST(Estimator, RelativeScaleIgnoresThePixelsOwnFirefly) {
+  const Film film = centre_film(0.1f, 0.1f, 50.0f);  // Var(mean) = 49.9^2 / 4
+  EXPECT_NEAR(pixel_rel_error(film, 4), std::sqrt(49.9 * 49.9 / 4 / (0.01 + 0.01)), 1e-3);
+  PixelEstimate e;
+  ASSERT_TRUE(pixel_estimate(film, 4, e));
+  EXPECT_NEAR(e.scale.x, 0.1, 1e-6);
+}
+
 /// A diffuse floor lit by a rectangle light, seen with the black sky above the horizon: noisy pixels next to
 /// pixels with no variance at all.
 Scene make_floor_scene() {
