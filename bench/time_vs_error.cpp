@@ -7,7 +7,7 @@
 // Efficiency = 1 / (rel_mse x seconds). Strategy "defaults" is what ptview runs with no strategy flags.
 //   build/bench/bench_time_vs_error [--size 128] [--max-spp 256] [--ref-spp 4096] [--cache DIR] [--csv FILE]
 //                                   [--scenes a,b,...] [--max-depth 64] [--threads 0] [--clock wall|cpu]
-//                                   [--strategies defaults,bsdf,...]
+//                                   [--strategies defaults,bsdf,...] [--seed 0]
 // --clock cpu counts process CPU seconds divided by the thread count instead of wall seconds: a proxy for a quiet
 // machine's wall time when other work shares the cores (for tuning; published figures use wall time).
 // Scene cornell36 (only when named in --scenes): bench/data/cornell36.obj with its ceiling light emitting
@@ -314,6 +314,7 @@ int main(int argc, char** argv) {
   std::string only;
   bool cpu_clock = false;
   std::string only_strategies;
+  uint64_t seed = 0;  // of the measured renders (the references have their own)
   // Convergence sections: "estimator", "adaptive", "both", "only" (both, skipping the strategy curves) or "none".
   std::string convergence = "both";
   int conv_size = 32, conv_ref_spp = 4096;
@@ -331,6 +332,7 @@ int main(int argc, char** argv) {
     else if (!std::strcmp(argv[i], "--threads")) threads = std::atoi(argv[i + 1]);
     else if (!std::strcmp(argv[i], "--clock")) cpu_clock = !std::strcmp(argv[i + 1], "cpu");
     else if (!std::strcmp(argv[i], "--strategies")) only_strategies = "," + std::string(argv[i + 1]) + ",";
+    else if (!std::strcmp(argv[i], "--seed")) seed = std::strtoull(argv[i + 1], nullptr, 10);
   }
   std::vector<std::pair<std::string, Scene>> scenes;
   for (const char* name : {"cornell", "cornell-glass", "cornell-mirror", "cornell-large-mesh"}) {
@@ -363,6 +365,7 @@ int main(int argc, char** argv) {
     base.width = base.height = size;
     base.max_depth = max_depth;
     base.threads = threads;
+    base.seed = seed;
     Image reference;
     double ref_noise = 0.0;
     if (name == "furnace") {
