@@ -154,18 +154,22 @@ inline void sobol_owen_pattern_scalar(uint32_t rev_index, uint32_t seed, float* 
 namespace sobol_detail {
 inline __m128i mul_u32(__m128i x, uint32_t c) { return _mm_mullo_epi32(x, _mm_set1_epi32(int(c))); }
 inline __m128i shr_xor(__m128i x, int s) { return _mm_xor_si128(x, _mm_srli_epi32(x, s)); }
-/// reverse_bits on each 32-bit lane: the bytes swapped by a shuffle, the bits of each byte reversed by GFNI's
-/// affine transform where the CPU has it, else by two 16-entry nibble lookups.
-inline __m128i reverse_bits4(__m128i x) {
-  x = _mm_shuffle_epi8(x, _mm_setr_epi8(3, 2, 1, 0, 7, 6, 5, 4, 11, 10, 9, 8, 15, 14, 13, 12));
-#if defined(__GFNI__)
-  return _mm_gf2p8affine_epi64_epi8(x, _mm_set1_epi64x(int64_t(0x8040201008040201ull)), 0);
-#else
+/// Reverses the bits of each byte by two 16-entry nibble lookups (SSSE3).
+inline __m128i reverse_bits_in_bytes_by_nibbles(__m128i x) {
   const __m128i low4 = _mm_set1_epi8(0x0f);
   const __m128i rev = _mm_setr_epi8(0x0, 0x8, 0x4, 0xc, 0x2, 0xa, 0x6, 0xe, 0x1, 0x9, 0x5, 0xd, 0x3, 0xb, 0x7, 0xf);
   const __m128i rev_hi = _mm_slli_epi16(rev, 4);  // no carry crosses a byte: every entry is below 16
   __m128i lo = _mm_and_si128(x, low4), hi = _mm_and_si128(_mm_srli_epi16(x, 4), low4);
   return _mm_or_si128(_mm_shuffle_epi8(rev_hi, lo), _mm_shuffle_epi8(rev, hi));
+}
+/// reverse_bits on each 32-bit lane: the bytes swapped by a shuffle, the bits of each byte reversed by GFNI's
+/// affine transform (one instruction) where the CPU has it, else by the nibble lookups.
+inline __m128i reverse_bits4(__m128i x) {
+  x = _mm_shuffle_epi8(x, _mm_setr_epi8(3, 2, 1, 0, 7, 6, 5, 4, 11, 10, 9, 8, 15, 14, 13, 12));
+#if defined(__GFNI__)
+  return _mm_gf2p8affine_epi64_epi8(x, _mm_set1_epi64x(int64_t(0x8040201008040201ull)), 0);
+#else
+  return reverse_bits_in_bytes_by_nibbles(x);
 #endif
 }
 }  // namespace sobol_detail
