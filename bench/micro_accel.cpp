@@ -17,6 +17,7 @@
 #include "accel/bvh8.h"
 #include "accel/triangle.h"
 #include "core/sampling.h"
+#include "render/sampler.h"
 
 using namespace pt;
 
@@ -214,5 +215,28 @@ void BM_spherical_triangle(benchmark::State& state) {
   });
 }
 BENCHMARK(BM_spherical_triangle);
+
+// The random numbers of one pixel sample as the path tracer draws them for a path of 3 vertices: the seeding, the
+// camera's 2D draw and per vertex a 4D and a 3D draw (render/integrator.cpp); items = pixel samples (issue 11).
+template <SamplerKind kind>
+void BM_pixel_sampler(benchmark::State& state) {
+  uint64_t n = 0;
+  for (auto _ : state) {
+    PixelSampler s = PixelSampler::start(7, n >> 6, n & 63u, kind);
+    ++n;
+    vec2 c = s.next2d();
+    float acc = c.x + c.y;
+    for (int v = 0; v < 3; ++v) {
+      float a[4], b[3];
+      s.next<4>(a);
+      s.next<3>(b);
+      acc += a[0] + a[1] + a[2] + a[3] + b[0] + b[1] + b[2];
+    }
+    benchmark::DoNotOptimize(acc);
+  }
+  state.SetItemsProcessed(int64_t(state.iterations()));
+}
+BENCHMARK(BM_pixel_sampler<SamplerKind::independent>)->Name("BM_pixel_sampler_independent");
+BENCHMARK(BM_pixel_sampler<SamplerKind::sobol>)->Name("BM_pixel_sampler_sobol");
 
 }  // namespace

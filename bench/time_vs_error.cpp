@@ -7,7 +7,9 @@
 // Efficiency = 1 / (rel_mse x seconds). Strategy "defaults" is what ptview runs with no strategy flags.
 //   build/bench/bench_time_vs_error [--size 128] [--max-spp 256] [--ref-spp 4096] [--cache DIR] [--csv FILE]
 //                                   [--scenes a,b,...] [--max-depth 64] [--threads 0] [--clock wall|cpu]
-//                                   [--strategies defaults,bsdf,...]
+//                                   [--strategies defaults,bsdf,...] [--seed 0] [--sampler-cost FRAMES]
+// --sampler-cost FRAMES: only Sobol's frame time against independent's, frames rendered alternately (see
+// sampler_cost), for the scenes of --scenes with --size and --max-depth.
 // --clock cpu counts process CPU seconds divided by the thread count instead of wall seconds: a proxy for a quiet
 // machine's wall time when other work shares the cores (for tuning; published figures use wall time).
 // Scene cornell36 (only when named in --scenes): bench/data/cornell36.obj with its ceiling light emitting
@@ -297,6 +299,29 @@ double clock_seconds(bool cpu, int threads) {
   return (double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec)) / double(threads);
 }
 
+/// Sobol's cost against independent numbers, with the defaults: frames of 1 spp rendered alternately with each
+/// sampler (the order swapped every frame), so a change in the machine's load hits both alike; prints the spp/s
+/// ratio Sobol / independent (issue 11, target 3).
+void sampler_cost(const std::string& name, const RenderScene& rs, int size, int max_depth, int frames, bool cpu_clock,
+                  Renderer& renderer) {
+  double seconds[2] = {0.0, 0.0};
+  Film films[2] = {Film(size, size), Film(size, size)};
+  RenderCounters c;
+  for (int f = 0; f < frames; ++f)
+    for (int j = 0; j < 2; ++j) {
+      const int k = (f + j) & 1;
+      RenderParams p;
+      p.width = p.height = size;
+      p.max_depth = max_depth;
+      p.sampler = kSamplers[k].second;
+      double t0 = clock_seconds(cpu_clock, renderer.thread_count());
+      renderer.render_frame(rs, p, films[k], uint32_t(f), c);
+      seconds[k] += clock_seconds(cpu_clock, renderer.thread_count()) - t0;
+    }
+  std::printf("%-20s sampler cost, %d frames of %dx%d: independent %.1f spp/s, sobol %.1f spp/s, ratio %.3f\n",
+              name.c_str(), frames, size, size, frames / seconds[0], frames / seconds[1], seconds[0] / seconds[1]);
+}
+
 /// Mean over pixels and channels of (a - b)^2 / 4 / (r^2 + 0.01): the reference noise in rel_mse units.
 double reference_noise(const Image& a, const Image& b, const Image& r) {
   double sum = 0.0;
@@ -314,6 +339,8 @@ int main(int argc, char** argv) {
   std::string only;
   bool cpu_clock = false;
   std::string only_strategies;
+  uint64_t seed = 0;  // of the measured renders (the references have their own)
+  int sampler_cost_frames = 0;
   // Convergence sections: "estimator", "adaptive", "both", "only" (both, skipping the strategy curves) or "none".
   std::string convergence = "both";
   int conv_size = 32, conv_ref_spp = 4096;
@@ -331,6 +358,8 @@ int main(int argc, char** argv) {
     else if (!std::strcmp(argv[i], "--threads")) threads = std::atoi(argv[i + 1]);
     else if (!std::strcmp(argv[i], "--clock")) cpu_clock = !std::strcmp(argv[i + 1], "cpu");
     else if (!std::strcmp(argv[i], "--strategies")) only_strategies = "," + std::string(argv[i + 1]) + ",";
+    else if (!std::strcmp(argv[i], "--seed")) seed = std::strtoull(argv[i + 1], nullptr, 10);
+    else if (!std::strcmp(argv[i], "--sampler-cost")) sampler_cost_frames = std::atoi(argv[i + 1]);
   }
   std::vector<std::pair<std::string, Scene>> scenes;
   for (const char* name : {"cornell", "cornell-glass", "cornell-mirror", "cornell-large-mesh"}) {
@@ -349,8 +378,14 @@ int main(int argc, char** argv) {
     }
     scenes.emplace_back("cornell36", std::move(*c36));
   }
-  fs::create_directories(cache);
   Renderer renderer(threads);
+  if (sampler_cost_frames > 0) {
+    for (auto& [name, scene] : scenes)
+      if (only.empty() || only.find("," + name + ",") != std::string::npos)
+        sampler_cost(name, make_render_scene(scene), size, max_depth, sampler_cost_frames, cpu_clock, renderer);
+    return 0;
+  }
+  fs::create_directories(cache);
   std::ofstream csv(csv_path);
   csv << "scene,strategy,sampler,spp,seconds,rmse,rel_mse,rel_mse_raw,efficiency\n";
   std::printf("%-20s %-22s %-12s %6s %9s %11s %11s %11s\n", "scene", "strategy", "sampler", "spp", "seconds", "rmse",
@@ -363,6 +398,7 @@ int main(int argc, char** argv) {
     base.width = base.height = size;
     base.max_depth = max_depth;
     base.threads = threads;
+    base.seed = seed;
     Image reference;
     double ref_noise = 0.0;
     if (name == "furnace") {

@@ -69,6 +69,59 @@ TEST(Sobol, ByteTablesMatchTheDefinitionOnTheTop24Bits) {
   }
 }
 
+/// The pattern as first written (dimension 0 by a double bit reversal, each dimension on its own): the fast forms
+/// must give exactly these numbers, so images do not change with the implementation.
+void first_definition(uint32_t index, uint32_t seed, float* out) {
+  const uint32_t r = laine_karras_permutation(reverse_bits(index), seed);
+  out[0] = fixed_to_unit_float(reverse_bits(laine_karras_permutation(reverse_bits(r), hash_u32(seed + 0x9e3779b9u))));
+  for (int k = 1; k < 4; ++k)
+    out[k] = fixed_to_unit_float(
+        reverse_bits(laine_karras_permutation(sobol_reversed(r, k), hash_u32(seed + 0x9e3779b9u * uint32_t(k + 1)))));
+}
+
+TEST(Sobol, FastPatternsGiveExactlyTheDefinedNumbers) {
+  uint32_t x = 777u;
+  for (int n = 0; n < 200000; ++n) {
+    x = hash_u32(x + uint32_t(n));
+    const uint32_t index = n < 4096 ? uint32_t(n) : x & 0xffffffu, seed = hash_u32(x ^ 0x5bd1e995u);
+    float want[4], scalar[4], simd[4], simd3[3], simd2[2], simd1[1];
+    first_definition(index, seed, want);
+    sobol_owen_pattern_scalar<4>(reverse_bits(index), seed, scalar);
+    sobol_owen_pattern<4>(reverse_bits(index), seed, simd);
+    sobol_owen_pattern<3>(reverse_bits(index), seed, simd3);
+    sobol_owen_pattern<2>(reverse_bits(index), seed, simd2);
+    sobol_owen_pattern<1>(reverse_bits(index), seed, simd1);
+    for (int d = 0; d < 4; ++d) {
+      ASSERT_EQ(scalar[d], want[d]) << "scalar, index " << index << " seed " << seed << " dim " << d;
+      ASSERT_EQ(simd[d], want[d]) << "simd, index " << index << " seed " << seed << " dim " << d;
+    }
+    for (int d = 0; d < 3; ++d) ASSERT_EQ(simd3[d], want[d]);
+    for (int d = 0; d < 2; ++d) ASSERT_EQ(simd2[d], want[d]);
+    ASSERT_EQ(simd1[0], want[0]);
+  }
+}
+
+#if defined(__SSE4_1__) && defined(__SSSE3__)
+TEST(Sobol, VectorBitReversalsMatchTheScalarOne) {
+  // Both byte-level reversals (GFNI where the build has it, the nibble lookups always), on every lane.
+  uint32_t x = 99u;
+  for (int n = 0; n < 100000; ++n) {
+    uint32_t in[4], out[4], nib[4];
+    for (uint32_t& v : in) v = x = hash_u32(x + uint32_t(n));
+    if (n < 64) in[n % 4] = 1u << (n / 2);  // single bits too
+    __m128i v = _mm_loadu_si128(reinterpret_cast<const __m128i*>(in));
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(out), sobol_detail::reverse_bits4(v));
+    const __m128i bswap = _mm_setr_epi8(3, 2, 1, 0, 7, 6, 5, 4, 11, 10, 9, 8, 15, 14, 13, 12);
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(nib),
+                     sobol_detail::reverse_bits_in_bytes_by_nibbles(_mm_shuffle_epi8(v, bswap)));
+    for (int k = 0; k < 4; ++k) {
+      ASSERT_EQ(out[k], reverse_bits(in[k])) << in[k];
+      ASSERT_EQ(nib[k], reverse_bits(in[k])) << in[k];
+    }
+  }
+}
+#endif
+
 TEST(Sobol, EveryDimensionOfA4DPatternIsStratified) {
   for (uint32_t seed : {5u, 991u})
     for (int k = 0; k <= 12; ++k)
