@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "core/aabb.h"
+#include "core/huge_page_allocator.h"
 #include "core/ray.h"
 
 namespace pt {
@@ -24,8 +25,8 @@ struct BvhNode {
 inline constexpr int kBvhMaxDepth = 96;
 
 struct Bvh {
-  std::vector<BvhNode> nodes;          ///< nodes[0] is the root
-  std::vector<uint32_t> prim_indices;  ///< leaf order -> input primitive index
+  HugeVector<BvhNode> nodes;          ///< nodes[0] is the root
+  HugeVector<uint32_t> prim_indices;  ///< leaf order -> input primitive index
   int depth = 0;
 };
 

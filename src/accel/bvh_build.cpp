@@ -295,7 +295,7 @@ struct Builder {
 
   /// Appends `job`'s nodes to `out`, its root going to out[slot] (the root job: out is empty), then its child jobs
   /// in the order they were made, with every child index shifted to its place in `out`.
-  static void stitch(Job& job, uint32_t slot, std::vector<BvhNode>& out) {
+  static void stitch(Job& job, uint32_t slot, HugeVector<BvhNode>& out) {
     const bool root = out.empty();
     const uint32_t base = root ? 0u : uint32_t(out.size()) - 1u;  // node i >= 1 goes to base + i
     auto moved = [&](BvhNode n) {
@@ -310,7 +310,7 @@ struct Builder {
   }
 
   /// Builds the whole tree with `threads` threads (the caller's included) into `out`.
-  void build(const Task& root, int threads, std::vector<BvhNode>& out) {
+  void build(const Task& root, int threads, HugeVector<BvhNode>& out) {
     Job root_job;
     root_job.task = root;
     enqueue(&root_job);
@@ -329,7 +329,7 @@ Bvh build_bvh(std::span<const AABB> boxes, std::span<const vec3> centers, const 
   const uint32_t n = uint32_t(boxes.size());
   if (n == 0) return bvh;
   const int threads = build_threads(options.threads);
-  std::vector<PrimRef> refs(n);
+  HugeVector<PrimRef> refs(n);
   RangeBounds part[64];
   const int parts = std::min(threads, 64);
   parallel_chunks(n, parts, kMinParallelPrims, [&](int chunk, size_t begin, size_t end) {

@@ -59,8 +59,8 @@ TraceGeometry make_trace_geometry(std::span<const vec3> triangle_vertices, std::
   {
     Bvh binary;
     {  // the boxes are freed before the collapse allocates the wide tree: a lower peak
-      std::vector<AABB> boxes(g.triangle_count);
-      std::vector<vec3> centers(g.triangle_count);
+      HugeVector<AABB> boxes(g.triangle_count);
+      HugeVector<vec3> centers(g.triangle_count);
       parallel_chunks(g.triangle_count, threads, 16384, [&](int, size_t begin, size_t end) {
         for (size_t i = begin; i < end; ++i) {
           AABB b;

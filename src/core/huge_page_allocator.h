@@ -8,6 +8,7 @@
 #include <cstddef>
 #include <cstdlib>
 #include <new>
+#include <vector>
 
 namespace pt {
 
@@ -36,5 +37,11 @@ struct HugePageAllocator {
   template <class U>
   bool operator==(const HugePageAllocator<U>&) const noexcept { return true; }
 };
+
+/// A vector in huge pages. Also for the build's large temporaries: every first touch of a 4 KiB page is a page
+/// fault, which on a virtual machine costs about 10 us; a 1M-triangle build touches 100k pages (a third of its
+/// time went to faults), in 2 MiB pages a few hundred.
+template <class T>
+using HugeVector = std::vector<T, HugePageAllocator<T>>;
 
 }  // namespace pt
