@@ -97,10 +97,14 @@ struct Builder {
   const BvhBuildOptions& options;
   int max_bins;
   uint32_t max_leaf;
+  uint32_t block_mask;  ///< leaf block size - 1 when that is a power of two (as it always is), else 0
   std::atomic<int> depth{0};
 
   Builder(std::span<PrimRef> r, const BvhBuildOptions& o)
-      : refs(r), options(o), max_bins(std::clamp(o.bins, 2, kMaxBins)), max_leaf(uint32_t(std::max(1, o.max_leaf_size))) {}
+      : refs(r), options(o), max_bins(std::clamp(o.bins, 2, kMaxBins)), max_leaf(uint32_t(std::max(1, o.max_leaf_size))) {
+    const uint32_t block = uint32_t(sah_leaf_tests(1, o));
+    block_mask = std::has_single_bit(block) ? block - 1 : 0;
+  }
 
   struct Task {
     uint32_t node, begin, end;
@@ -108,7 +112,11 @@ struct Builder {
     RangeBounds bounds;
   };
 
-  float blocks(uint32_t count) const { return sah_leaf_tests(count, options); }
+  /// sah_leaf_tests, without its integer division when the block size is a power of two (the bin sweeps call this
+  /// for every bin: the division was 3% of the build).
+  float blocks(uint32_t count) const {
+    return block_mask ? float((count + block_mask) & ~block_mask) : sah_leaf_tests(count, options);
+  }
 
   /// Small nodes get fewer bins: with as many bins as primitives the binned split is already close to a sweep.
   int bins_for(uint32_t count) const { return std::clamp(int(count), std::min(8, max_bins), max_bins); }
