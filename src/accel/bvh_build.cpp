@@ -14,6 +14,7 @@
 #include <memory>
 #include <mutex>
 #include <thread>
+#include <type_traits>
 
 #include "accel/bvh.h"
 #include "accel/parallel.h"
@@ -30,7 +31,8 @@ constexpr uint32_t kMinParallelPrims = 4096;
 /// A box as two SSE registers (the w lanes are ignored): one min and one max per extend.
 struct Box4 {
   __m128 lo = _mm_set1_ps(kInfinity), hi = _mm_set1_ps(-kInfinity);
-  void extend(const Box4& b) { lo = _mm_min_ps(lo, b.lo); hi = _mm_max_ps(hi, b.hi); }
+  void extend(const Box4& b) { extend(b.lo, b.hi); }
+  void extend(__m128 l, __m128 h) { lo = _mm_min_ps(lo, l); hi = _mm_max_ps(hi, h); }
   void extend_point(__m128 p) { lo = _mm_min_ps(lo, p); hi = _mm_max_ps(hi, p); }
   float half_area() const {
     alignas(16) float e[4];
@@ -49,14 +51,16 @@ struct Box4 {
 /// Its centroid is the box center, kept doubled (lo + hi: binning only needs relative positions, and the factor 2 is
 /// exact), so a reference is half the size it would be with a centroid and an id of its own: every level of the
 /// build reads and partitions half the bytes.
+/// Trivially constructible, so the array is made without a serial pass of constructors: the threads that fill it
+/// touch its pages first.
 struct alignas(32) PrimRef {
-  Box4 box;
-  uint32_t id() const { return uint32_t(_mm_cvtsi128_si32(_mm_shuffle_epi32(_mm_castps_si128(box.lo), 3))); }
+  __m128 lo, hi;
+  uint32_t id() const { return uint32_t(_mm_cvtsi128_si32(_mm_shuffle_epi32(_mm_castps_si128(lo), 3))); }
   /// lo + hi (w lane 0), or 0 where that is not finite (an empty box of a non-finite primitive), so no NaN reaches
   /// the bins or the median's order.
   __m128 center2() const {
     const __m128 xyz = _mm_castsi128_ps(_mm_setr_epi32(-1, -1, -1, 0));
-    const __m128 c = _mm_add_ps(_mm_and_ps(box.lo, xyz), _mm_and_ps(box.hi, xyz));
+    const __m128 c = _mm_add_ps(_mm_and_ps(lo, xyz), _mm_and_ps(hi, xyz));
     const __m128 finite = _mm_cmplt_ps(_mm_andnot_ps(_mm_set1_ps(-0.0f), c), _mm_set1_ps(kInfinity));
     return _mm_and_ps(c, finite);
   }
@@ -67,17 +71,17 @@ struct alignas(32) PrimRef {
   }
   void set(const AABB& b, uint32_t prim) {
     const AABB f = finite_or_empty(b);
-    box.lo = _mm_castsi128_ps(_mm_setr_epi32(std::bit_cast<int32_t>(f.lo.x), std::bit_cast<int32_t>(f.lo.y),
+    lo = _mm_castsi128_ps(_mm_setr_epi32(std::bit_cast<int32_t>(f.lo.x), std::bit_cast<int32_t>(f.lo.y),
                                              std::bit_cast<int32_t>(f.lo.z), int32_t(prim)));
-    box.hi = _mm_setr_ps(f.hi.x, f.hi.y, f.hi.z, 0.0f);
+    hi = _mm_setr_ps(f.hi.x, f.hi.y, f.hi.z, 0.0f);
   }
 };
-static_assert(sizeof(PrimRef) == 32);
+static_assert(sizeof(PrimRef) == 32 && std::is_trivially_default_constructible_v<PrimRef>);
 
 /// Bounds of a set of references and of their centroids.
 struct RangeBounds {
   Box4 box, centroids;
-  void extend(const PrimRef& r) { box.extend(r.box); centroids.extend_point(r.center2()); }
+  void extend(const PrimRef& r) { box.extend(r.lo, r.hi); centroids.extend_point(r.center2()); }
   void extend(const RangeBounds& o) { box.extend(o.box); centroids.extend(o.centroids); }
 };
 
@@ -155,7 +159,7 @@ struct Builder {
       _mm_store_si128(reinterpret_cast<__m128i*>(idx), binning.index(r));
       for (int a = 0; a < 3; ++a) {
         Bin& b = bins[a][idx[a]];
-        b.box.extend(r.box);
+        b.box.extend(r.lo, r.hi);
         b.count++;
       }
     }
@@ -370,7 +374,13 @@ Bvh build_from(uint32_t n, const BvhBuildOptions& options, BoxOf&& box_of) {
   Bvh bvh;
   if (n == 0) return bvh;
   const int threads = build_threads(options.threads);
-  HugeVector<PrimRef> refs(n);
+  // Raw storage, not a vector: value-initializing the references was a serial memset of 32n bytes.
+  struct Free {
+    size_t n;
+    void operator()(PrimRef* p) const { HugePageAllocator<PrimRef>().deallocate(p, n); }
+  };
+  const std::unique_ptr<PrimRef[], Free> storage(HugePageAllocator<PrimRef>().allocate(n), Free{n});
+  const std::span<PrimRef> refs(storage.get(), n);
   RangeBounds part[64];
   const int parts = std::min(threads, 64);
   parallel_chunks(n, parts, kMinParallelPrims, [&](int chunk, size_t begin, size_t end) {
