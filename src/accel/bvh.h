@@ -1,6 +1,6 @@
 #pragma once
-/// A bounding volume hierarchy over abstract primitives, after madmann91/bvh: the builder takes spans of boxes and
-/// centers and returns flat nodes plus a primitive permutation; traversal is a template over the leaf test, so
+/// A bounding volume hierarchy over abstract primitives, after madmann91/bvh: the builder takes a span of boxes
+/// and returns flat nodes plus a primitive permutation; traversal is a template over the leaf test, so
 /// the hot loop has no virtual call and no std::function.
 #include <cstdint>
 #include <span>
