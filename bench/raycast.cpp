@@ -1,6 +1,6 @@
 // Ray casting and BVH build against Embree 3: both trace the same ray sets on the same meshes.
 //   build/bench/bench_raycast [--threads N] [--reps N] [--only cornell|bunny|knot|knot6m] [--csv out.csv]
-//                             [--path-seconds S] [--clock wall|cpu]
+//                             [--path-seconds S] [--clock wall|cpu] [--build-only 0|1]
 // Meshes: the built-in Cornell box, ../shared/models/stanford-bunny.obj (when present), a ~1M-triangle torus knot;
 // on request (--only knot6m) a 6.3M-triangle knot, the large-mesh report.
 // each flattened by the renderer's own path (make_render_scene), so they are exactly the triangles it traces
@@ -275,6 +275,7 @@ struct Options {
   std::string csv = "raycast.csv";
   std::string only;
   double path_seconds = 3.0;
+  bool build_only = false;  ///< --build-only 1: the build table only (no ray sets, no tracing)
 };
 
 std::string fmt(double v, const char* f = "%.2f") {
@@ -620,6 +621,7 @@ void run_mesh(const TestMesh& m, const Options& opt, Csv& csv) {
       }
   }
 
+  if (opt.build_only) return;
   // Trace table.
   const RaySets sets = make_ray_sets(m, ours, opt.threads);
   std::printf("\n");
@@ -657,7 +659,7 @@ void run_mesh(const TestMesh& m, const Options& opt, Csv& csv) {
 
 constexpr const char* kUsage =
     "usage: %s [--threads N] [--reps N] [--only cornell|bunny|knot|knot6m] [--csv FILE] [--path-seconds S]\n"
-    "       [--clock wall|cpu]\n";
+    "       [--clock wall|cpu] [--build-only 0|1]\n";
 
 int main(int argc, char** argv) {
   Options opt;
@@ -672,6 +674,7 @@ int main(int argc, char** argv) {
     else if (!std::strcmp(argv[i], "--only")) opt.only = argv[i + 1];
     else if (!std::strcmp(argv[i], "--clock") && (!std::strcmp(argv[i + 1], "cpu") || !std::strcmp(argv[i + 1], "wall")))
       g_cpu_clock = !std::strcmp(argv[i + 1], "cpu");
+    else if (!std::strcmp(argv[i], "--build-only")) opt.build_only = std::atoi(argv[i + 1]) != 0;
     else if (!std::strcmp(argv[i], "--path-seconds")) opt.path_seconds = std::max(0.0, std::atof(argv[i + 1]));
     else {
       std::fprintf(stderr, kUsage, argv[0]);

@@ -1,12 +1,13 @@
 #pragma once
-/// A bounding volume hierarchy over abstract primitives, after madmann91/bvh: the builder takes spans of boxes and
-/// centers and returns flat nodes plus a primitive permutation; traversal is a template over the leaf test, so
+/// A bounding volume hierarchy over abstract primitives, after madmann91/bvh: the builder takes a span of boxes
+/// and returns flat nodes plus a primitive permutation; traversal is a template over the leaf test, so
 /// the hot loop has no virtual call and no std::function.
 #include <cstdint>
 #include <span>
 #include <vector>
 
 #include "core/aabb.h"
+#include "core/huge_page_allocator.h"
 #include "core/ray.h"
 
 namespace pt {
@@ -24,8 +25,8 @@ struct BvhNode {
 inline constexpr int kBvhMaxDepth = 96;
 
 struct Bvh {
-  std::vector<BvhNode> nodes;          ///< nodes[0] is the root
-  std::vector<uint32_t> prim_indices;  ///< leaf order -> input primitive index
+  HugeVector<BvhNode> nodes;          ///< nodes[0] is the root
+  HugeVector<uint32_t> prim_indices;  ///< leaf order -> input primitive index
   int depth = 0;
 };
 
@@ -45,9 +46,12 @@ inline float sah_leaf_tests(uint32_t count, const BvhBuildOptions& options) {
   return float((count + block - 1) / block * block);
 }
 
-/// Binned SAH build, top-down. `boxes[i]` bounds primitive i, `centers[i]` is its representative point (centroid).
-/// Non-finite boxes count as empty (finite_or_empty) and non-finite centers as the origin.
-Bvh build_bvh(std::span<const AABB> boxes, std::span<const vec3> centers, const BvhBuildOptions& options = {});
+/// Binned SAH build, top-down. `boxes[i]` bounds primitive i; its centroid is the box center (as in Embree and
+/// pbrt). Non-finite boxes count as empty (finite_or_empty), with the origin as centroid.
+Bvh build_bvh(std::span<const AABB> boxes, const BvhBuildOptions& options = {});
+/// The same over triangles (triangle i is vertices 3i..3i+2), without an array of their boxes: on a 6M-triangle mesh
+/// that array and its centers were 230 MB of fresh memory, and touching fresh memory is a large part of a build.
+Bvh build_triangle_bvh(std::span<const vec3> triangle_vertices, const BvhBuildOptions& options = {});
 
 /// Reference builder: the exact SAH split over every primitive boundary on all three axes (a full sweep,
 /// O(n log^2 n)). Slow; it exists to measure how much the binned builder loses. Inputs must be finite.

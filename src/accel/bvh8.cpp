@@ -53,7 +53,7 @@ struct CollapsePlan {
     bool leaf;           ///< as one slot: a leaf (true) or a wide node
     uint32_t first, count;  ///< its primitives, contiguous in prim_indices
   };
-  std::vector<Entry> e;
+  HugeVector<Entry> e;
 
   explicit CollapsePlan(const Bvh& binary) : e(binary.nodes.size()) {
     // Children come after their parent, so a reverse sweep sees children first.
@@ -113,7 +113,7 @@ struct Collapser {
   const Bvh& binary;
   const CollapsePlan& plan;
   Bvh8& out;
-  std::vector<uint32_t>& blocks;  ///< offsets of the blocks made, for the (parallel) vertex gather
+  HugeVector<uint32_t>& blocks;  ///< offsets of the blocks made, for the (parallel) vertex gather
 
   uint32_t allocate(uint32_t units) {
     const size_t offset = out.units.size();
@@ -201,7 +201,7 @@ Bvh8 make_bvh8(const Bvh& binary, std::span<const vec3> triangle_vertices, int t
   // About one wide node per 4 binary interior nodes, and up to ceil(n/4) + leaves blocks.
   out.units.reserve(kNodeUnits * (binary.nodes.size() / 4 + 2) +
                     kBlockUnits * (binary.prim_indices.size() / 4 + leaves));
-  std::vector<uint32_t> blocks;
+  HugeVector<uint32_t> blocks;
   blocks.reserve(binary.prim_indices.size() / 4 + leaves);
   const CollapsePlan plan(binary);
   Collapser{binary, plan, out, blocks}.collapse(0);

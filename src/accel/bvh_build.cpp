@@ -9,10 +9,12 @@
 
 #include <algorithm>
 #include <atomic>
+#include <bit>
 #include <condition_variable>
 #include <memory>
 #include <mutex>
 #include <thread>
+#include <type_traits>
 
 #include "accel/bvh.h"
 #include "accel/parallel.h"
@@ -29,7 +31,8 @@ constexpr uint32_t kMinParallelPrims = 4096;
 /// A box as two SSE registers (the w lanes are ignored): one min and one max per extend.
 struct Box4 {
   __m128 lo = _mm_set1_ps(kInfinity), hi = _mm_set1_ps(-kInfinity);
-  void extend(const Box4& b) { lo = _mm_min_ps(lo, b.lo); hi = _mm_max_ps(hi, b.hi); }
+  void extend(const Box4& b) { extend(b.lo, b.hi); }
+  void extend(__m128 l, __m128 h) { lo = _mm_min_ps(lo, l); hi = _mm_max_ps(hi, h); }
   void extend_point(__m128 p) { lo = _mm_min_ps(lo, p); hi = _mm_max_ps(hi, p); }
   float half_area() const {
     alignas(16) float e[4];
@@ -44,22 +47,41 @@ struct Box4 {
   }
 };
 
-/// A primitive reference: its box, centroid and id, moved together by the partition.
-struct alignas(16) PrimRef {
-  Box4 box;
-  __m128 center;
-  uint32_t id;
+/// A primitive reference, 32 bytes (as Embree's): its box, with the primitive id in the w lane of the low corner.
+/// Its centroid is the box center, kept doubled (lo + hi: binning only needs relative positions, and the factor 2 is
+/// exact), so a reference is half the size it would be with a centroid and an id of its own: every level of the
+/// build reads and partitions half the bytes.
+/// Trivially constructible, so the array is made without a serial pass of constructors: the threads that fill it
+/// touch its pages first.
+struct alignas(32) PrimRef {
+  __m128 lo, hi;
+  uint32_t id() const { return uint32_t(_mm_cvtsi128_si32(_mm_shuffle_epi32(_mm_castps_si128(lo), 3))); }
+  /// lo + hi (w lane 0), or 0 where that is not finite (an empty box of a non-finite primitive), so no NaN reaches
+  /// the bins or the median's order.
+  __m128 center2() const {
+    const __m128 xyz = _mm_castsi128_ps(_mm_setr_epi32(-1, -1, -1, 0));
+    const __m128 c = _mm_add_ps(_mm_and_ps(lo, xyz), _mm_and_ps(hi, xyz));
+    const __m128 finite = _mm_cmplt_ps(_mm_andnot_ps(_mm_set1_ps(-0.0f), c), _mm_set1_ps(kInfinity));
+    return _mm_and_ps(c, finite);
+  }
   float center_axis(int a) const {
     alignas(16) float c[4];
-    _mm_store_ps(c, center);
+    _mm_store_ps(c, center2());
     return c[a];
   }
+  void set(const AABB& b, uint32_t prim) {
+    const AABB f = finite_or_empty(b);
+    lo = _mm_castsi128_ps(_mm_setr_epi32(std::bit_cast<int32_t>(f.lo.x), std::bit_cast<int32_t>(f.lo.y),
+                                             std::bit_cast<int32_t>(f.lo.z), int32_t(prim)));
+    hi = _mm_setr_ps(f.hi.x, f.hi.y, f.hi.z, 0.0f);
+  }
 };
+static_assert(sizeof(PrimRef) == 32 && std::is_trivially_default_constructible_v<PrimRef>);
 
 /// Bounds of a set of references and of their centroids.
 struct RangeBounds {
   Box4 box, centroids;
-  void extend(const PrimRef& r) { box.extend(r.box); centroids.extend_point(r.center); }
+  void extend(const PrimRef& r) { box.extend(r.lo, r.hi); centroids.extend_point(r.center2()); }
   void extend(const RangeBounds& o) { box.extend(o.box); centroids.extend(o.centroids); }
 };
 
@@ -79,10 +101,14 @@ struct Builder {
   const BvhBuildOptions& options;
   int max_bins;
   uint32_t max_leaf;
+  uint32_t block_mask;  ///< leaf block size - 1 when that is a power of two (as it always is), else 0
   std::atomic<int> depth{0};
 
   Builder(std::span<PrimRef> r, const BvhBuildOptions& o)
-      : refs(r), options(o), max_bins(std::clamp(o.bins, 2, kMaxBins)), max_leaf(uint32_t(std::max(1, o.max_leaf_size))) {}
+      : refs(r), options(o), max_bins(std::clamp(o.bins, 2, kMaxBins)), max_leaf(uint32_t(std::max(1, o.max_leaf_size))) {
+    const uint32_t block = uint32_t(sah_leaf_tests(1, o));
+    block_mask = std::has_single_bit(block) ? block - 1 : 0;
+  }
 
   struct Task {
     uint32_t node, begin, end;
@@ -90,7 +116,11 @@ struct Builder {
     RangeBounds bounds;
   };
 
-  float blocks(uint32_t count) const { return sah_leaf_tests(count, options); }
+  /// sah_leaf_tests, without its integer division when the block size is a power of two (the bin sweeps call this
+  /// for every bin: the division was 3% of the build).
+  float blocks(uint32_t count) const {
+    return block_mask ? float((count + block_mask) & ~block_mask) : sah_leaf_tests(count, options);
+  }
 
   /// Small nodes get fewer bins: with as many bins as primitives the binned split is already close to a sweep.
   int bins_for(uint32_t count) const { return std::clamp(int(count), std::min(8, max_bins), max_bins); }
@@ -100,7 +130,7 @@ struct Builder {
     __m128 lo, scale;
     int bins;
     __m128i index(const PrimRef& r) const {
-      const __m128 f = _mm_mul_ps(_mm_sub_ps(r.center, lo), scale);  // clamped before the conversion; NaN -> 0
+      const __m128 f = _mm_mul_ps(_mm_sub_ps(r.center2(), lo), scale);  // clamped before the conversion; NaN -> 0
       return _mm_cvttps_epi32(_mm_min_ps(_mm_max_ps(f, _mm_setzero_ps()), _mm_set1_ps(float(bins - 1))));
     }
     int index(const PrimRef& r, int axis) const {
@@ -129,7 +159,7 @@ struct Builder {
       _mm_store_si128(reinterpret_cast<__m128i*>(idx), binning.index(r));
       for (int a = 0; a < 3; ++a) {
         Bin& b = bins[a][idx[a]];
-        b.box.extend(r.box);
+        b.box.extend(r.lo, r.hi);
         b.count++;
       }
     }
@@ -211,9 +241,15 @@ struct Builder {
   /// therefore the final node order (stitch) are the same for any number of threads: the build is deterministic.
   struct Job {
     Task task;
-    std::vector<BvhNode> nodes;
-    std::vector<std::pair<uint32_t, std::unique_ptr<Job>>> children;  ///< (placeholder node in `nodes`, job)
+    /// Its nodes: arenas[arena][offset, offset + size), local index i at offset + i. A job runs on one thread from
+    /// start to end, so its nodes are contiguous in that thread's arena.
+    uint32_t arena = 0;
+    size_t offset = 0, size = 0;
+    std::vector<std::pair<uint32_t, std::unique_ptr<Job>>> children;  ///< (placeholder node of this job, job)
   };
+  /// One node arena per thread, in huge pages and reused by all the thread's jobs: a vector per job meant a fresh
+  /// allocation, and a page fault per 4 KiB of nodes, for every job.
+  std::vector<HugeVector<BvhNode>> arenas;
 
   /// Jobs waiting for a thread; `unfinished` counts queued and running jobs.
   std::mutex queue_mutex;
@@ -231,7 +267,7 @@ struct Builder {
   }
 
   /// Takes jobs until all are done (the main thread and the helper threads alike).
-  void work() {
+  void work(uint32_t arena) {
     Bin bins[3][kMaxBins];  // scratch, reused by every node this thread splits
     int local_depth = 0;
     for (;;) {
@@ -243,7 +279,7 @@ struct Builder {
         job = queue.back();
         queue.pop_back();
       }
-      run(*job, bins, local_depth);
+      run(*job, arena, bins, local_depth);
       bool all_done;
       {
         std::lock_guard<std::mutex> lock(queue_mutex);
@@ -256,27 +292,33 @@ struct Builder {
   }
 
   /// Builds the subtree of job.task into job.nodes; children of kMinParallelPrims or more become new jobs.
-  void run(Job& job, Bin (*bins)[kMaxBins], int& local_depth) {
-    job.nodes.reserve(2 * size_t(std::min(job.task.end - job.task.begin, 2 * kMinParallelPrims)));
-    job.nodes.emplace_back();
+  void run(Job& job, uint32_t arena, Bin (*bins)[kMaxBins], int& local_depth) {
+    HugeVector<BvhNode>& all = arenas[arena];
+    job.arena = arena;
+    job.offset = all.size();
+    BvhNode* nodes = nullptr;  // job-local indexing; set again whenever the arena may have grown
+    auto grow = [&](size_t count) {
+      all.resize(all.size() + count);
+      nodes = all.data() + job.offset;
+    };
+    grow(1);
     std::vector<Task> stack{job.task};
     stack.back().node = 0;
     while (!stack.empty()) {
       Task t = stack.back();
       stack.pop_back();
       local_depth = std::max(local_depth, t.depth);
-      job.nodes[t.node].bounds = t.bounds.box.aabb();
+      nodes[t.node].bounds = t.bounds.box.aabb();
       Task children[2];
       if (!split(t, children[0], children[1], bins)) {
-        job.nodes[t.node].first = t.begin;
-        job.nodes[t.node].count = t.end - t.begin;
+        nodes[t.node].first = t.begin;
+        nodes[t.node].count = t.end - t.begin;
         continue;
       }
-      const uint32_t first = uint32_t(job.nodes.size());
-      job.nodes[t.node].first = first;
-      job.nodes[t.node].count = 0;
-      job.nodes.emplace_back();
-      job.nodes.emplace_back();
+      const uint32_t first = uint32_t(all.size() - job.offset);
+      nodes[t.node].first = first;
+      nodes[t.node].count = 0;
+      grow(2);
       for (int k = 1; k >= 0; --k) {  // right pushed first: the left subtree is built first
         Task& c = children[k];
         c.node = first + uint32_t(k);
@@ -291,55 +333,60 @@ struct Builder {
         }
       }
     }
+    job.size = all.size() - job.offset;
   }
 
   /// Appends `job`'s nodes to `out`, its root going to out[slot] (the root job: out is empty), then its child jobs
   /// in the order they were made, with every child index shifted to its place in `out`.
-  static void stitch(Job& job, uint32_t slot, std::vector<BvhNode>& out) {
+  void stitch(Job& job, uint32_t slot, HugeVector<BvhNode>& out) const {
+    const BvhNode* nodes = arenas[job.arena].data() + job.offset;
     const bool root = out.empty();
     const uint32_t base = root ? 0u : uint32_t(out.size()) - 1u;  // node i >= 1 goes to base + i
     auto moved = [&](BvhNode n) {
       if (!n.is_leaf()) n.first += base;
       return n;
     };
-    if (root) out.push_back(moved(job.nodes[0]));
-    else out[slot] = moved(job.nodes[0]);
-    for (size_t i = 1; i < job.nodes.size(); ++i) out.push_back(moved(job.nodes[i]));
-    std::vector<BvhNode>().swap(job.nodes);
+    if (root) out.push_back(moved(nodes[0]));
+    else out[slot] = moved(nodes[0]);
+    for (size_t i = 1; i < job.size; ++i) out.push_back(moved(nodes[i]));
     for (auto& [local_slot, child] : job.children) stitch(*child, local_slot + base, out);
   }
 
   /// Builds the whole tree with `threads` threads (the caller's included) into `out`.
-  void build(const Task& root, int threads, std::vector<BvhNode>& out) {
+  void build(const Task& root, int threads, HugeVector<BvhNode>& out) {
     Job root_job;
     root_job.task = root;
+    // A tree over n primitives has at most 2n - 1 nodes, so no arena reallocates (untouched capacity costs nothing).
+    arenas.resize(size_t(threads));
+    for (HugeVector<BvhNode>& a : arenas) a.reserve(2 * size_t(root.end - root.begin));
     enqueue(&root_job);
     std::vector<std::thread> helpers;
-    for (int i = 1; i < threads; ++i) helpers.emplace_back([this] { work(); });
-    work();
+    for (int i = 1; i < threads; ++i) helpers.emplace_back([this, i] { work(uint32_t(i)); });
+    work(0);
     for (std::thread& h : helpers) h.join();
     stitch(root_job, 0, out);
   }
 };
 
-}  // namespace
-
-Bvh build_bvh(std::span<const AABB> boxes, std::span<const vec3> centers, const BvhBuildOptions& options) {
+/// Makes the references (box_of(i) is primitive i's box) in parallel chunks and builds the tree over them.
+template <class BoxOf>
+Bvh build_from(uint32_t n, const BvhBuildOptions& options, BoxOf&& box_of) {
   Bvh bvh;
-  const uint32_t n = uint32_t(boxes.size());
   if (n == 0) return bvh;
   const int threads = build_threads(options.threads);
-  std::vector<PrimRef> refs(n);
+  // Raw storage, not a vector: value-initializing the references was a serial memset of 32n bytes.
+  struct Free {
+    size_t n;
+    void operator()(PrimRef* p) const { HugePageAllocator<PrimRef>().deallocate(p, n); }
+  };
+  const std::unique_ptr<PrimRef[], Free> storage(HugePageAllocator<PrimRef>().allocate(n), Free{n});
+  const std::span<PrimRef> refs(storage.get(), n);
   RangeBounds part[64];
   const int parts = std::min(threads, 64);
   parallel_chunks(n, parts, kMinParallelPrims, [&](int chunk, size_t begin, size_t end) {
     RangeBounds b;
     for (uint32_t i = uint32_t(begin); i < end; ++i) {
-      const AABB box = finite_or_empty(boxes[i]);
-      const vec3 c = is_finite(centers[i]) ? centers[i] : vec3(0.0f);  // no NaN in the bins or the median's order
-      refs[i].box = {_mm_setr_ps(box.lo.x, box.lo.y, box.lo.z, 0.0f), _mm_setr_ps(box.hi.x, box.hi.y, box.hi.z, 0.0f)};
-      refs[i].center = _mm_setr_ps(c.x, c.y, c.z, 0.0f);
-      refs[i].id = i;
+      refs[i].set(box_of(i), i);
       b.extend(refs[i]);
     }
     part[chunk] = b;  // min and max: the same bounds however the chunks fall
@@ -351,8 +398,22 @@ Bvh build_bvh(std::span<const AABB> boxes, std::span<const vec3> centers, const 
   b.build({0, 0, n, 0, all}, threads, bvh.nodes);
   bvh.depth = b.depth.load();
   bvh.prim_indices.resize(n);
-  for (uint32_t i = 0; i < n; ++i) bvh.prim_indices[i] = refs[i].id;
+  for (uint32_t i = 0; i < n; ++i) bvh.prim_indices[i] = refs[i].id();
   return bvh;
+}
+
+}  // namespace
+
+Bvh build_bvh(std::span<const AABB> boxes, const BvhBuildOptions& options) {
+  return build_from(uint32_t(boxes.size()), options, [&](uint32_t i) { return boxes[i]; });
+}
+
+Bvh build_triangle_bvh(std::span<const vec3> vertices, const BvhBuildOptions& options) {
+  return build_from(uint32_t(vertices.size() / 3), options, [&](uint32_t i) {
+    AABB b;
+    for (int k = 0; k < 3; ++k) b.extend(vertices[3 * size_t(i) + k]);
+    return b;
+  });
 }
 
 float sah_cost(const Bvh& bvh, float traversal_cost) {

@@ -57,20 +57,7 @@ TraceGeometry make_trace_geometry(std::span<const vec3> triangle_vertices, std::
   g.triangle_count = uint32_t(triangle_vertices.size() / 3);
   const int threads = build_threads(options.threads);
   {
-    Bvh binary;
-    {  // the boxes are freed before the collapse allocates the wide tree: a lower peak
-      std::vector<AABB> boxes(g.triangle_count);
-      std::vector<vec3> centers(g.triangle_count);
-      parallel_chunks(g.triangle_count, threads, 16384, [&](int, size_t begin, size_t end) {
-        for (size_t i = begin; i < end; ++i) {
-          AABB b;
-          for (int k = 0; k < 3; ++k) b.extend(triangle_vertices[3 * i + k]);
-          boxes[i] = b;
-          centers[i] = b.center();
-        }
-      });
-      binary = build_bvh(boxes, centers, triangle_build_options(options));
-    }
+    const Bvh binary = build_triangle_bvh(triangle_vertices, triangle_build_options(options));
     g.stats.binary_nodes = binary.nodes.size();
     g.stats.depth = binary.depth;
     g.stats.sah_cost = sah_cost(binary, options.traversal_cost);
@@ -78,16 +65,12 @@ TraceGeometry make_trace_geometry(std::span<const vec3> triangle_vertices, std::
   }
   {
     std::vector<AABB> boxes(spheres.size());
-    std::vector<vec3> centers(spheres.size());
-    for (size_t i = 0; i < spheres.size(); ++i) {
-      boxes[i] = spheres[i].bounds();
-      centers[i] = spheres[i].center;
-    }
+    for (size_t i = 0; i < spheres.size(); ++i) boxes[i] = spheres[i].bounds();
     // The sphere test runs in double precision, far costlier than a box: one sphere per leaf.
     BvhBuildOptions sphere_options = options;
     sphere_options.threads = 1;
     sphere_options.max_leaf_size = 1;
-    g.sphere_bvh = build_bvh(boxes, centers, sphere_options);
+    g.sphere_bvh = build_bvh(boxes, sphere_options);
     fill_spheres(g, spheres);
   }
   update_bounds(g);

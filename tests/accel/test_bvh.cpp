@@ -448,7 +448,7 @@ TEST(Bvh, StructureIsSoundForTinyInputs) {
   for (int n : {0, 1, 2, 3}) {
     Soup s = mixed_soup(n, 0, 10 + uint64_t(n));
     std::vector<AABB> boxes = prim_boxes(s);
-    check_structure(build_bvh(boxes, box_centers(boxes)), boxes, 8);
+    check_structure(build_bvh(boxes), boxes, 8);
     TraceGeometry g = make_trace_geometry(s.tris, s.spheres);
     check_trace_structure(g, s);
     expect_matches_brute_force(g, s, 3000, 20 + uint64_t(n), 0);
@@ -496,7 +496,7 @@ TEST(Bvh, CollinearAndGeometricCentroidsKeepDepthBounded) {
     for (int leaf : {1, 8}) {
       BvhBuildOptions o;
       o.max_leaf_size = leaf;
-      check_structure(build_bvh(boxes, box_centers(boxes), o), boxes, leaf);
+      check_structure(build_bvh(boxes, o), boxes, leaf);
     }
   }
 }
@@ -596,11 +596,11 @@ TEST(Bvh, BinnedSahIsWithinTenPercentOfFullSweepAndBeatsMedian) {
   for (const Soup& s : {uniform_soup(5000, 42), mixed_soup(5000, 0, 43)}) {
     std::vector<AABB> boxes = prim_boxes(s);
     BvhBuildOptions opts;
-    Bvh binned = build_bvh(boxes, box_centers(boxes), opts);
+    Bvh binned = build_bvh(boxes, opts);
     for (int leaf : {1, 4, 16}) {
       BvhBuildOptions o;
       o.max_leaf_size = leaf;
-      check_structure(build_bvh(boxes, box_centers(boxes), o), boxes, leaf);
+      check_structure(build_bvh(boxes, o), boxes, leaf);
     }
     Bvh sweep = ReferenceBuilder::make(boxes, opts, true);
     Bvh median = ReferenceBuilder::make(boxes, opts, false);
