@@ -35,13 +35,13 @@ double lum(dvec3 c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }
 
 bool pixel_estimate(const Film& film, size_t p, PixelEstimate& e) {
   const double n = film.count[p], na = film.half_count[p], nb = n - na;
-  const dvec3 s(film.sum[3 * p], film.sum[3 * p + 1], film.sum[3 * p + 2]);
-  e.mean = n > 0 ? s / n : dvec3(0.0);
+  e.mean = pixel_mean(film, p);
   if (na == 0 || nb == 0) {
     e.var_mean = dvec3(0.0);
     e.scale = e.mean;
     return false;
   }
+  const dvec3 s(film.sum[3 * p], film.sum[3 * p + 1], film.sum[3 * p + 2]);
   const dvec3 sa(film.half_sum[3 * p], film.half_sum[3 * p + 1], film.half_sum[3 * p + 2]);
   const dvec3 a = sa / na, b = (s - sa) / nb, d = a - b;
   e.var_mean = d * d * (na * nb / (n * n));
