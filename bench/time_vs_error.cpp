@@ -15,6 +15,10 @@
 // Scene cornell36 (only when named in --scenes): bench/data/cornell36.obj with its ceiling light emitting
 // (17, 12, 4), no background (the issue-11 set-up: 256x256, --max-depth 8, --threads 2, see `make bench-cornell36`).
 // Then: python3 bench/plot_time_vs_error.py FILE.csv docs/img
+// Convergence sections (issue 12; --convergence estimator|adaptive|both|only|none, default both): est_rel_mse
+// against rel_mse on 32x32 renders (--conv-size, --conv-ref-spp 4096, --conv-seeds 8: the mean over that many
+// seeds), then adaptive against uniform sampling at equal time on the glass box (honours --clock). Both subtract
+// the rendered references' own noise as above; the plane's reference is its closed form.
 #include <chrono>
 #include <ctime>
 #include <cmath>
@@ -119,29 +123,46 @@ PlaneScene make_plane_scene() {
 }
 
 
-/// The exact image, box-filtered by averaging the closed form over a grid x grid set of positions in each pixel.
-Image exact_plane_image(const PlaneScene& ps, int size, int grid = 16) {
+/// The exact radiance along one camera ray of the plane scene, or 0 where the ray sees black.
+double exact_plane_radiance(const PlaneScene& ps, const Ray& r) {
+  dvec3 o(r.org), d(r.dir);
+  // The light (plane y = 0.8, seen from above: its back, black) hides the floor behind it.
+  double tl = (0.8 - o.y) / d.y;
+  dvec3 pl = o + tl * d;
+  if (tl > 0 && pl.x > -0.4 && pl.x < 0.4 && pl.z > -0.3 && pl.z < 0.3) return 0.0;
+  double t = -o.y / d.y;
+  if (!(t > 0)) return 0.0;
+  dvec3 p = o + t * d;
+  if (std::abs(p.x) > 20 || std::abs(p.z) > 20) return 0.0;
+  return ps.albedo / M_PI * polygon_irradiance(ps.light, p, dvec3(0, 1, 0), ps.radiance);
+}
+
+/// The exact image, box-filtered: the closed form averaged over a grid x grid set of positions in each pixel.
+/// Inside a pixel the radiance is smooth except where the light's silhouette or the floor's edge crosses it; the
+/// midpoint rule's error is O(h^2) on the smooth part but O(h) on such a step. Pixels whose grid sees both black and
+/// lit floor are therefore averaged again over `fine` x `fine` positions (the step's error falls with the number
+/// of rows it crosses, about fine^-1.5), so the reference stays far below the error of a 256-spp Sobol render.
+Image exact_plane_image(const PlaneScene& ps, int size, int grid = 16, int fine = 256) {
   Image img(size, size);
   CameraRig rig = make_camera_rig(*ps.scene.camera, size, size);
+  auto average = [&](int x, int y, int n, bool* mixed) {
+    double sum = 0.0;
+    int black = 0;
+    for (int sy = 0; sy < n; ++sy)
+      for (int sx = 0; sx < n; ++sx) {
+        double v = exact_plane_radiance(ps, generate_camera_ray(rig, x, y, vec2((sx + 0.5f) / n, (sy + 0.5f) / n)));
+        sum += v;
+        black += v == 0.0;
+      }
+    if (mixed) *mixed = black > 0 && black < n * n;
+    return sum / double(n) / double(n);
+  };
   for (int y = 0; y < size; ++y)
     for (int x = 0; x < size; ++x) {
-      double sum = 0.0;
-      for (int sy = 0; sy < grid; ++sy)
-        for (int sx = 0; sx < grid; ++sx) {
-          Ray r = generate_camera_ray(rig, x, y, vec2((sx + 0.5f) / grid, (sy + 0.5f) / grid));
-          dvec3 o(r.org), d(r.dir);
-          // The light (plane y = 0.8, seen from above: its back, black) hides the floor behind it.
-          double tl = (0.8 - o.y) / d.y;
-          dvec3 pl = o + tl * d;
-          if (tl > 0 && pl.x > -0.4 && pl.x < 0.4 && pl.z > -0.3 && pl.z < 0.3) continue;
-          double t = -o.y / d.y;
-          if (!(t > 0)) continue;
-          dvec3 p = o + t * d;
-          if (std::abs(p.x) > 20 || std::abs(p.z) > 20) continue;
-          sum += ps.albedo / M_PI * polygon_irradiance(ps.light, p, dvec3(0, 1, 0), ps.radiance);
-        }
-      float v = float(sum / double(grid * grid));
-      img.set(x, y, vec3(v));
+      bool mixed = false;
+      double v = average(x, y, grid, &mixed);
+      if (mixed && fine > grid) v = average(x, y, fine, nullptr);
+      img.set(x, y, vec3(float(v)));
     }
   return img;
 }
@@ -157,39 +178,72 @@ Image render(const RenderScene& rs, RenderParams p, int spp, Renderer& renderer)
 
 // ---- Convergence (issue 12): the error estimator against the true error, and adaptive against uniform sampling.
 
-/// A reference for a scene that has no closed form: an MIS render at `spp`, cached in `cache`.
-Image cached_reference(const std::string& cache, const std::string& name, const RenderScene& rs, int size, int spp,
-                       Renderer& renderer) {
-  std::string path = cache + "/ref-" + name + "-" + std::to_string(size) + "-" + std::to_string(spp) + ".pfm";
-  if (Result<Image> cached = load_image(path)) return std::move(*cached);
-  RenderParams p;
-  p.width = p.height = size;
-  p.seed = 987654321;
-  auto t0 = std::chrono::steady_clock::now();
-  Image ref = render(rs, p, spp, renderer);
-  double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  std::printf("# reference %s: %d spp in %.1f s -> %s\n", name.c_str(), spp, s, path.c_str());
-  if (auto err = save_image(path, ref)) std::fprintf(stderr, "%s\n", err->message.c_str());
+/// A reference for a scene with no closed form: two MIS renders of spp / 2 samples (halves A and B, different
+/// seeds, cached as `stem`-A.pfm and -B.pfm), averaged. Every rel_mse against it contains its own noise,
+/// E[(x - r)^2] = Var(x) + Var(r); `noise` is that term in rel_mse units, (A - B)^2 / 4 normalised like rel_mse,
+/// for the caller to subtract (issue 11: "the reference's own noise subtracted").
+struct Reference {
+  Image image;
+  double noise = 0.0;
+};
+
+double reference_noise(const Image& a, const Image& b, const Image& r) {
+  double sum = 0.0;
+  for (size_t i = 0; i < r.rgb.size(); ++i) {
+    double d = double(a.rgb[i]) - double(b.rgb[i]), rr = double(r.rgb[i]);
+    sum += d * d / 4.0 / (rr * rr + 0.01);
+  }
+  return r.rgb.empty() ? 0.0 : sum / double(r.rgb.size());
+}
+
+Reference cached_reference(const std::string& stem, const std::string& name, const RenderScene& rs,
+                           const RenderParams& base, int spp, Renderer& renderer) {
+  Image halves[2];
+  for (int h = 0; h < 2; ++h) {
+    std::string path = stem + (h == 0 ? "-A.pfm" : "-B.pfm");
+    if (Result<Image> cached = load_image(path)) {
+      halves[h] = std::move(*cached);
+      continue;
+    }
+    auto t0 = std::chrono::steady_clock::now();
+    RenderParams p = base;
+    p.seed = 987654321 + uint64_t(h);
+    halves[h] = render(rs, p, std::max(1, spp / 2), renderer);
+    double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    std::printf("# reference %s half %c: %d spp in %.1f s -> %s\n", name.c_str(), 'A' + h, spp / 2, s,
+                path.c_str());
+    if (auto err = save_image(path, halves[h])) std::fprintf(stderr, "%s\n", err->message.c_str());
+  }
+  Reference ref{halves[0], 0.0};
+  for (size_t i = 0; i < ref.image.rgb.size(); ++i)
+    ref.image.rgb[i] = 0.5f * (halves[0].rgb[i] + halves[1].rgb[i]);
+  ref.noise = reference_noise(halves[0], halves[1], ref.image);
+  std::printf("# reference %s: %d spp, its own noise in rel_mse units %.3g (subtracted)\n", name.c_str(), spp,
+              ref.noise);
   return ref;
 }
 
-/// est_rel_mse against the true rel_mse at 16, 64 and 256 spp, per scene and sampler, two seeds each. `pair` is a
-/// reference-free check: half the mean squared difference of two independent renders, normalised like rel_mse.
-void validate_estimator(const std::vector<std::pair<std::string, Image>>& refs,
+/// est_rel_mse against the true rel_mse at 16, 64 and 256 spp, per scene and sampler, the mean over `seeds` seeds.
+/// `pair` is a reference-free check: half the mean squared difference of two independent renders (seeds 2k and
+/// 2k + 1), normalised like rel_mse. Several seeds because at 32x32 a few dozen pixels (a light's silhouette, a
+/// caustic) hold most of the error, so one render's rel_mse, and its estimate, move by 20-50% from seed to seed.
+void validate_estimator(const std::vector<std::pair<std::string, Reference>>& refs,
                         const std::vector<std::pair<std::string, const RenderScene*>>& scenes, int size,
-                        int ref_spp, Renderer& renderer, const std::string& csv_path) {
+                        int ref_spp, int seeds, Renderer& renderer, const std::string& csv_path) {
   std::ofstream csv(csv_path);
   csv << "scene,sampler,spp,ref_spp,rel_mse,est_rel_mse,pair_rel_mse,ratio\n";
-  std::printf("\n# estimator validation: est_rel_mse / rel_mse (mean of 2 seeds; target within [1/1.5, 1.5])\n");
+  std::printf("\n# estimator validation: est_rel_mse / rel_mse (mean of %d seeds; target within [1/1.5, 1.5])\n",
+              seeds);
   std::printf("%-22s %-12s %5s %11s %11s %11s %7s\n", "scene", "sampler", "spp", "rel_mse", "est_rel_mse", "pair",
               "ratio");
   for (size_t i = 0; i < scenes.size(); ++i) {
-    const Image& ref = refs[i].second;
+    const Image& ref = refs[i].second.image;
     for (auto [sampler_name, sampler] : kSamplers)
       for (int spp : {16, 64, 256}) {
         double rel = 0, est = 0;
+        double pair = 0;
         Image img[2];
-        for (int seed = 0; seed < 2; ++seed) {
+        for (int seed = 0; seed < seeds; ++seed) {
           RenderParams p;
           p.width = p.height = size;
           p.sampler = sampler;
@@ -198,16 +252,17 @@ void validate_estimator(const std::vector<std::pair<std::string, Image>>& refs,
           Film film(size, size);
           RenderCounters c;
           renderer.render_frame(*scenes[i].second, p, film, 0, c);
-          img[seed] = film.resolve();
-          rel += compare_images(img[seed], ref).rel_mse / 2;
-          est += est_rel_mse(film) / 2;
+          img[seed % 2] = film.resolve();
+          rel += (compare_images(img[seed % 2], ref).rel_mse - refs[i].second.noise) / seeds;
+          est += est_rel_mse(film) / seeds;
+          if (seed % 2 == 0) continue;
+          double sum = 0;
+          for (size_t k = 0; k < ref.rgb.size(); ++k) {
+            double d = double(img[0].rgb[k]) - img[1].rgb[k], r = ref.rgb[k];
+            sum += d * d / (r * r + 0.01);
+          }
+          pair += sum / (2.0 * double(ref.rgb.size())) / (seeds / 2);
         }
-        double pair = 0;
-        for (size_t k = 0; k < ref.rgb.size(); ++k) {
-          double d = double(img[0].rgb[k]) - img[1].rgb[k], r = ref.rgb[k];
-          pair += d * d / (r * r + 0.01);
-        }
-        pair /= 2.0 * double(ref.rgb.size());
         csv << scenes[i].first << "," << sampler_name << "," << spp << "," << ref_spp << "," << rel << "," << est
             << "," << pair << "," << est / rel << "\n";
         std::printf("%-22s %-12s %5d %11.4g %11.4g %11.4g %7.3f\n", scenes[i].first.c_str(), sampler_name, spp, rel,
@@ -216,11 +271,21 @@ void validate_estimator(const std::vector<std::pair<std::string, Image>>& refs,
   }
 }
 
+/// Seconds on the chosen clock: wall, or process CPU time / threads (see --clock).
+double clock_seconds(bool cpu, int threads) {
+  if (!cpu) return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+  timespec ts{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return (double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec)) / double(threads);
+}
+
 /// Adaptive (--noise-threshold T) against uniform sampling on one scene: the adaptive run goes until every pixel
 /// converged (or max_spp), then a uniform run gets the same render time. Efficiency = 1 / (rel_mse x seconds);
 /// also at equal sample count (cost without timing noise).
-void compare_adaptive(const std::string& name, const RenderScene& rs, const Image& ref, int size, int max_spp,
-                      Renderer& renderer, const std::string& csv_path) {
+void compare_adaptive(const std::string& name, const RenderScene& rs, const Reference& ref, int size, int max_spp,
+                      Renderer& renderer, bool cpu_clock, const std::string& csv_path) {
+  // rel_mse with the reference's own noise subtracted (see Reference).
+  auto true_rel = [&](const Film& film) { return compare_images(film.resolve(), ref.image).rel_mse - ref.noise; };
   std::ofstream csv(csv_path);
   csv << "scene,mode,threshold,spp_mean,spp_max,seconds,rel_mse,est_rel_mse,converged_fraction\n";
   std::printf("\n# adaptive against uniform sampling at equal time, %s %dx%d (mis, sobol)\n", name.c_str(), size,
@@ -230,10 +295,10 @@ void compare_adaptive(const std::string& name, const RenderScene& rs, const Imag
   RenderParams p;
   p.width = p.height = size;
   p.spp_per_frame = 4;
-  using Clock = std::chrono::steady_clock;
+  auto now = [&] { return clock_seconds(cpu_clock, renderer.thread_count()); };
   auto row = [&](const char* mode, double t, const ProgressiveFilm& f, double secs, double eff_t, double eff_s) {
     SppSummary s = spp_summary(f.film());
-    double rel = compare_images(f.film().resolve(), ref).rel_mse, est = est_rel_mse(f.film());
+    double rel = true_rel(f.film()), est = est_rel_mse(f.film());
     csv << name << "," << mode << "," << t << "," << s.mean << "," << s.max << "," << secs << "," << rel << ","
         << est << "," << f.converged_fraction() << "\n";
     std::printf("%-9s %9.3g %9.1f %7u %9.2f %11.4g %11.4g %9.3f %8.2f %8.2f\n", mode, t, s.mean, s.max, secs, rel, est,
@@ -246,31 +311,31 @@ void compare_adaptive(const std::string& name, const RenderScene& rs, const Imag
     RenderCounters c;
     double ta = 0;
     while (!a.converged() && a.spp() < max_spp) {
-      auto t0 = Clock::now();
+      const double t0 = now();
       a.render_frame(renderer, rs, p, c);
-      ta += std::chrono::duration<double>(Clock::now() - t0).count();
+      ta += now() - t0;
     }
-    double rel_a = compare_images(a.film().resolve(), ref).rel_mse;
+    double rel_a = true_rel(a.film());
     // Uniform at equal time.
     ProgressiveFilm u;
     u.reset(size, size);
     double tu = 0;
     while (tu < ta) {
-      auto t0 = Clock::now();
+      const double t0 = now();
       u.render_frame(renderer, rs, p, c);
-      tu += std::chrono::duration<double>(Clock::now() - t0).count();
+      tu += now() - t0;
     }
-    double rel_u = compare_images(u.film().resolve(), ref).rel_mse;
+    double rel_u = true_rel(u.film());
     // Uniform at equal samples: the adaptive run's mean spp (rounded up to a multiple of 4).
     ProgressiveFilm e;
     e.reset(size, size);
     double mean_a = spp_summary(a.film()).mean, te = 0;
     while (e.spp() < mean_a) {
-      auto t0 = Clock::now();
+      const double t0 = now();
       e.render_frame(renderer, rs, p, c);
-      te += std::chrono::duration<double>(Clock::now() - t0).count();
+      te += now() - t0;
     }
-    double rel_e = compare_images(e.film().resolve(), ref).rel_mse;
+    double rel_e = true_rel(e.film());
     double eff_t = (rel_u * tu) / (rel_a * ta), eff_s = (rel_e * spp_summary(e.film()).mean) / (rel_a * mean_a);
     row("adaptive", t, a, ta, eff_t, eff_s);
     row("uniform", 0, u, tu, 1, 1);
@@ -291,13 +356,6 @@ Result<Scene> make_cornell36_scene() {
   return s;
 }
 
-/// Seconds on the chosen clock: wall, or process CPU time / threads (see --clock).
-double clock_seconds(bool cpu, int threads) {
-  if (!cpu) return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-  timespec ts{};
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-  return (double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec)) / double(threads);
-}
 
 /// Sobol's cost against independent numbers, with the defaults: frames of 1 spp rendered alternately with each
 /// sampler (the order swapped every frame), so a change in the machine's load hits both alike; prints the spp/s
@@ -323,14 +381,6 @@ void sampler_cost(const std::string& name, const RenderScene& rs, int size, int 
 }
 
 /// Mean over pixels and channels of (a - b)^2 / 4 / (r^2 + 0.01): the reference noise in rel_mse units.
-double reference_noise(const Image& a, const Image& b, const Image& r) {
-  double sum = 0.0;
-  for (size_t i = 0; i < r.rgb.size(); ++i) {
-    double d = double(a.rgb[i]) - double(b.rgb[i]), rr = double(r.rgb[i]);
-    sum += d * d / 4.0 / (rr * rr + 0.01);
-  }
-  return r.rgb.empty() ? 0.0 : sum / double(r.rgb.size());
-}
 
 int main(int argc, char** argv) {
   int size = 128, max_spp = 256, ref_spp = 4096, max_depth = 64, threads = 0;
@@ -343,7 +393,7 @@ int main(int argc, char** argv) {
   int sampler_cost_frames = 0;
   // Convergence sections: "estimator", "adaptive", "both", "only" (both, skipping the strategy curves) or "none".
   std::string convergence = "both";
-  int conv_size = 32, conv_ref_spp = 4096;
+  int conv_size = 32, conv_ref_spp = 4096, conv_seeds = 8;
   for (int i = 1; i + 1 < argc; i += 2) {
     if (!std::strcmp(argv[i], "--size")) size = std::atoi(argv[i + 1]);
     else if (!std::strcmp(argv[i], "--max-spp")) max_spp = std::atoi(argv[i + 1]);
@@ -354,6 +404,7 @@ int main(int argc, char** argv) {
     else if (!std::strcmp(argv[i], "--convergence")) convergence = argv[i + 1];
     else if (!std::strcmp(argv[i], "--conv-size")) conv_size = std::atoi(argv[i + 1]);
     else if (!std::strcmp(argv[i], "--conv-ref-spp")) conv_ref_spp = std::atoi(argv[i + 1]);
+    else if (!std::strcmp(argv[i], "--conv-seeds")) conv_seeds = std::max(2, std::atoi(argv[i + 1]) / 2 * 2);
     else if (!std::strcmp(argv[i], "--max-depth")) max_depth = std::atoi(argv[i + 1]);
     else if (!std::strcmp(argv[i], "--threads")) threads = std::atoi(argv[i + 1]);
     else if (!std::strcmp(argv[i], "--clock")) cpu_clock = !std::strcmp(argv[i + 1], "cpu");
@@ -407,31 +458,11 @@ int main(int argc, char** argv) {
     } else if (name == "rect-light-over-plane") {
       reference = exact_plane_image(plane, size);
     } else {
-      std::string stem = cache + "/ref-" + name + "-" + std::to_string(size) + "-d" + std::to_string(max_depth) + "-" +
-                         std::to_string(ref_spp);
-      Image halves[2];
-      for (int h = 0; h < 2; ++h) {
-        std::string path = stem + (h == 0 ? "-A.pfm" : "-B.pfm");
-        Result<Image> cached = load_image(path);
-        if (cached) {
-          halves[h] = std::move(*cached);
-          continue;
-        }
-        auto t0 = std::chrono::steady_clock::now();
-        RenderParams p = base;
-        p.seed = 987654321 + uint64_t(h);
-        halves[h] = render(rs, p, std::max(1, ref_spp / 2), renderer);
-        double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-        std::printf("# reference %s half %c: %d spp in %.1f s -> %s\n", name.c_str(), 'A' + h, ref_spp / 2, s,
-                    path.c_str());
-        if (auto err = save_image(path, halves[h])) std::fprintf(stderr, "%s\n", err->message.c_str());
-      }
-      reference = halves[0];
-      for (size_t i = 0; i < reference.rgb.size(); ++i)
-        reference.rgb[i] = 0.5f * (halves[0].rgb[i] + halves[1].rgb[i]);
-      ref_noise = reference_noise(halves[0], halves[1], reference);
-      std::printf("# reference %s: %d spp, its own noise in rel_mse units %.3g (subtracted)\n", name.c_str(), ref_spp,
-                  ref_noise);
+      Reference ref = cached_reference(cache + "/ref-" + name + "-" + std::to_string(size) + "-d" +
+                                           std::to_string(max_depth) + "-" + std::to_string(ref_spp),
+                                       name, rs, base, ref_spp, renderer);
+      reference = std::move(ref.image);
+      ref_noise = ref.noise;
     }
     for (const Strategy& st : kStrategies)
       for (auto [sampler_name, sampler] : kSamplers) {
@@ -465,7 +496,7 @@ int main(int argc, char** argv) {
   std::printf("wrote %s\n", csv_path.c_str());
   if (convergence == "none") return 0;
   const std::string stem = csv_path.substr(0, csv_path.rfind('.'));
-  std::vector<std::pair<std::string, Image>> refs;
+  std::vector<std::pair<std::string, Reference>> refs;
   std::vector<std::unique_ptr<RenderScene>> owned;
   std::vector<std::pair<std::string, const RenderScene*>> conv_scenes;
   for (auto& [name, scene] : scenes) {
@@ -473,16 +504,20 @@ int main(int argc, char** argv) {
     if (name == "cornell-large-mesh") continue;  // same light transport as cornell, much slower references
     owned.push_back(std::make_unique<RenderScene>(make_render_scene(scene)));
     conv_scenes.emplace_back(name, owned.back().get());
+    RenderParams base;
+    base.width = base.height = conv_size;
     refs.emplace_back(name, name == "rect-light-over-plane"
-                                ? exact_plane_image(plane, conv_size, 128)  // fine enough for 256 spp Sobol
-                                : cached_reference(cache, name, *owned.back(), conv_size, conv_ref_spp, renderer));
+                                ? Reference{exact_plane_image(plane, conv_size, 64, 1024), 0.0}  // see its comment
+                                : cached_reference(cache + "/ref-" + name + "-" + std::to_string(conv_size) + "-" +
+                                                       std::to_string(conv_ref_spp),
+                                                   name, *owned.back(), base, conv_ref_spp, renderer));
   }
   if (convergence != "adaptive")
-    validate_estimator(refs, conv_scenes, conv_size, conv_ref_spp, renderer, stem + "-estimator.csv");
+    validate_estimator(refs, conv_scenes, conv_size, conv_ref_spp, conv_seeds, renderer, stem + "-estimator.csv");
   if (convergence != "estimator")
     for (size_t i = 0; i < conv_scenes.size(); ++i)
       if (conv_scenes[i].first == "cornell-glass")
-        compare_adaptive("cornell-glass", *conv_scenes[i].second, refs[i].second, conv_size, 2048, renderer,
+        compare_adaptive("cornell-glass", *conv_scenes[i].second, refs[i].second, conv_size, 2048, renderer, cpu_clock,
                          stem + "-adaptive.csv");
   return 0;
 }
