@@ -216,6 +216,19 @@ void BM_spherical_triangle(benchmark::State& state) {
 }
 BENCHMARK(BM_spherical_triangle);
 
+// Spherical parallelogram (two spherical triangles): a 1 x 1 quad sheared by 45 degrees, as sheared quad lights do it.
+void BM_spherical_parallelogram(benchmark::State& state) {
+  const Batch& d = batch();
+  run_batch(state, [&](size_t i) {
+    SphericalParallelogram sp;
+    bool ok = make_spherical_parallelogram(d.refs[i], vec3(-0.5f, 1.0f, -0.5f), vec3(1, 0, 0), vec3(0.5f, 0, 1), sp);
+    vec3 p = ok ? sample_spherical_parallelogram(sp, d.u[i]) : vec3(0.0f);
+    benchmark::DoNotOptimize(p);
+    return ok;
+  });
+}
+BENCHMARK(BM_spherical_parallelogram);
+
 // The random numbers of one pixel sample as the path tracer draws them for a path of 3 vertices: the seeding, the
 // camera's 2D draw and per vertex a 4D and a 3D draw (render/integrator.cpp); items = pixel samples (issue 11).
 template <SamplerKind kind>

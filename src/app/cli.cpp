@@ -62,7 +62,7 @@ ParseOutcome parse_command_line(int argc, const char* const* argv) {
   app.add_option("--threads", o.render.threads, "Worker threads (default: all cores)");
   auto* out_opt = app.add_option("--out", o.out, "Output image: .png (tonemapped sRGB), .pfm or .exr (linear mean)");
   app.add_option("--max-depth", o.render.max_depth, "Maximum path depth, pbrt convention (default 64)");
-  app.add_option("--integrator", integrator, "auto (default: nee or mis, chosen per scene), mis, nee or bsdf");
+  app.add_option("--integrator", integrator, "auto (default: nee; mis with --light-sampling area), mis, nee or bsdf");
   app.add_option("--light-sampling", light_sampling,
                  "auto (default: solid angle where it pays, per point), solid-angle or area");
   app.add_option("--sampler", sampler, "sobol (default: Owen-scrambled Sobol) or independent");

@@ -261,6 +261,25 @@ vec3 sample_spherical_triangle(const SphericalTriangle& st, vec2 u) {
   return st.p0 + b1 * st.e1 + b2 * st.e2;
 }
 
+bool make_spherical_parallelogram(vec3 ref, vec3 p0, vec3 e1, vec3 e2, SphericalParallelogram& out) {
+  // Arvo's sampling ends (u.x -> 1) on its triangle's arc b -> c and starts (u.x -> 0) on the arc b -> a. With the
+  // diagonal as the first triangle's b -> c and the second's b -> a, both from p0, the two halves meet there.
+  const vec3 p1 = p0 + e1, p2 = p1 + e2;
+  out.solid_angle = 0.0f;
+  if (!make_spherical_triangle(ref, p1, -e1, e2, out.t[0]) ||
+      !make_spherical_triangle(ref, p2, -(e1 + e2), -e1, out.t[1]))
+    return false;
+  out.solid_angle = out.t[0].solid_angle + out.t[1].solid_angle;
+  return out.solid_angle > 0.0f;
+}
+
+vec3 sample_spherical_parallelogram(const SphericalParallelogram& sp, vec2 u) {
+  const float a = u.x * sp.solid_angle, first = sp.t[0].solid_angle, second = sp.t[1].solid_angle;
+  if (a < first || !(second > 0.0f))
+    return sample_spherical_triangle(sp.t[0], {std::min(a / first, kOneMinusEpsilon), u.y});
+  return sample_spherical_triangle(sp.t[1], {std::clamp((a - first) / second, 0.0f, kOneMinusEpsilon), u.y});
+}
+
 DiscreteDistribution::DiscreteDistribution(std::span<const float> weights) {
   const size_t n = weights.size();
   pmf_table.assign(n, 0.0f);

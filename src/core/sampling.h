@@ -77,6 +77,22 @@ bool make_spherical_triangle(vec3 ref, vec3 p0, vec3 e1, vec3 e2, SphericalTrian
 /// area u.x * solid_angle, u.y the point along its last arc (Arvo's two steps, so strata of u stay strata).
 vec3 sample_spherical_triangle(const SphericalTriangle& st, vec2 u);
 
+/// A parallelogram (p0, p0 + e1, p0 + e1 + e2, p0 + e2) as two spherical triangles split at the diagonal from p0:
+/// its solid angle is their sum, and picking one in proportion to its solid angle, then a direction uniformly in it,
+/// samples the whole parallelogram uniformly in solid angle. Spherical rectangles (Urena et al. 2013) need right
+/// angles and pbrt-v4 samples other bilinear patches by area; this gives sheared quads (glTF and OBJ lights that are
+/// not rectangles) the same constant density, at the price of two triangle setups (issue 11).
+struct SphericalParallelogram {
+  SphericalTriangle t[2];  ///< (p0 + e1, p0, p0 + e1 + e2) and (p0 + e1 + e2, p0, p0 + e2): halves at the diagonal
+  float solid_angle = 0;   ///< of both; 0 if degenerate
+};
+/// False (solid_angle 0) when either half is degenerate as seen from ref (ref in the plane, ...).
+bool make_spherical_parallelogram(vec3 ref, vec3 p0, vec3 e1, vec3 e2, SphericalParallelogram& out);
+/// A point on the parallelogram; its density in solid angle at ref is 1 / solid_angle. u.x runs over the first
+/// triangle's solid angle, then the second's, and the map is continuous across the diagonal, so a stratum of u stays
+/// one region of the light; u.y as in sample_spherical_triangle.
+vec3 sample_spherical_parallelogram(const SphericalParallelogram& sp, vec2 u);
+
 /// A discrete distribution over indices, proportional to non-negative weights (used to pick a light by power).
 struct DiscreteDistribution {
   std::vector<float> cdf;  ///< size n + 1, cdf[0] = 0, cdf[n] = 1

@@ -168,18 +168,15 @@ vec3 trace_path_impl(const RenderScene& scene, const RenderParams& params, Ray r
   return radiance;
 }
 
-IntegratorKind resolve_integrator(const RenderScene& scene, IntegratorKind kind, LightSampling light_sampling) {
+IntegratorKind resolve_integrator(IntegratorKind kind, LightSampling light_sampling) {
   if (kind != IntegratorKind::automatic) return kind;
-  if (light_sampling == LightSampling::area) return IntegratorKind::mis;
-  for (const Light& l : scene.lights.lights)
-    if (l.kind == LightKind::rect && !l.rectangular) return IntegratorKind::mis;  // spheres, triangles: solid angle
-  return IntegratorKind::nee;
+  return light_sampling == LightSampling::area ? IntegratorKind::mis : IntegratorKind::nee;
 }
 
 vec3 trace_path(const RenderScene& scene, const RenderParams& params_in, Ray ray, PixelSampler& sampler,
                 RenderCounters& c) {
   RenderParams params = params_in;
-  params.integrator = resolve_integrator(scene, params.integrator, params.light_sampling);
+  params.integrator = resolve_integrator(params.integrator, params.light_sampling);
   const bool delta = scene.features.has_delta || params.force_generic_kernel;
   const bool background = scene.features.has_background || params.force_generic_kernel;
   if (delta) {

@@ -13,16 +13,16 @@ namespace pt {
 vec3 trace_path(const RenderScene& scene, const RenderParams& params, Ray ray, PixelSampler& sampler,
                 RenderCounters& counters);
 
-/// The integrator `kind` stands for in `scene`: itself, or for automatic, nee when every light is sampled in
-/// solid angle (spheres by their cone, rectangles and triangles by spherical ones: light_sampling is solid_angle or
-/// automatic, whose area-sampled points see the light nearly uniformly, where area and solid-angle densities agree)
-/// and mis otherwise. Why: the scenes have only diffuse, mirror and glass surfaces; mirror and glass cannot be
-/// light-sampled, so both strategies count emission after them in full, and at a diffuse vertex a solid-angle light
-/// sample already has a density close to the integrand, so MIS only adds the BSDF-side light_pdf evaluation and
-/// weights that move variance onto cosine-sampled hits (bench-error, issue 11: nee beat mis on every Cornell
-/// scene). Where a light is sampled by area (non-rectangular parallelograms, --light-sampling area),
-/// the light sample's density blows up near the light's plane and MIS's BSDF side is what bounds it.
-IntegratorKind resolve_integrator(const RenderScene& scene, IntegratorKind kind, LightSampling light_sampling);
+/// The integrator `kind` stands for: itself, or for automatic, nee unless lights are sampled by area. Why: every
+/// light has a solid-angle sampling (spheres by their cone, rectangles, parallelograms and triangles by spherical
+/// ones), which light_sampling solid_angle uses everywhere and automatic wherever area sampling's density is far from
+/// it (elsewhere the two agree within the spread threshold, light.h). The scenes have only diffuse, mirror and glass
+/// surfaces; mirror and glass cannot be light-sampled, so both strategies count emission after them in full, and at
+/// a diffuse vertex a solid-angle light sample already has a density close to the integrand, so MIS only adds the
+/// BSDF-side light_pdf evaluation and weights that move variance onto cosine-sampled hits (bench-error, issue 11:
+/// nee beat mis on every Cornell scene). With --light-sampling area the light sample's density blows up near the
+/// light's plane and MIS's BSDF side is what bounds it.
+IntegratorKind resolve_integrator(IntegratorKind kind, LightSampling light_sampling);
 
 /// Which specialization of the path loop trace_path runs for this scene (for stats).
 const char* kernel_name(const RenderScene& scene, const RenderParams& params);

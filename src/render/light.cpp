@@ -101,20 +101,67 @@ bool rect_area_density_spreads(const Light& light, vec3 ref, float k) {
   return r2_max * r2_max * r2_max >= double(k) * double(k) * (r2_min * r2_min * r2_min);
 }
 
-/// Whether `mode` asks for solid-angle sampling of this rectangle or triangle at `ref` (before the usable-range
-/// check). Non-rectangular parallelograms have no spherical sampling: always by area.
-bool wants_solid_angle(const Light& light, vec3 ref, LightSampling mode, float auto_min_spread) {
-  if (mode == LightSampling::area || (light.kind == LightKind::rect && !light.rectangular)) return false;
-  if (mode == LightSampling::solid_angle) return true;
-  if (light.kind == LightKind::rect) return rect_area_density_spreads(light, ref, auto_min_spread);
-  return !(triangle_area_density_spread(light, ref) < auto_min_spread);  // NaN (ref on the light): solid angle
+/// The point of the triangle (a, a + ab, a + ac) nearest to p: the Voronoi regions of its vertices, then of its
+/// edges, then the interior (Ericson, "Real-Time Collision Detection", 5.1.5).
+vec3 nearest_point_on_triangle(vec3 p, vec3 a, vec3 ab, vec3 ac) {
+  const vec3 ap = p - a;
+  const float d1 = glm::dot(ab, ap), d2 = glm::dot(ac, ap);
+  if (d1 <= 0.0f && d2 <= 0.0f) return a;
+  const vec3 bp = ap - ab;
+  const float d3 = glm::dot(ab, bp), d4 = glm::dot(ac, bp);
+  if (d3 >= 0.0f && d4 <= d3) return a + ab;
+  const vec3 cp = ap - ac;
+  const float d5 = glm::dot(ab, cp), d6 = glm::dot(ac, cp);
+  if (d6 >= 0.0f && d5 <= d6) return a + ac;
+  const float vc = d1 * d4 - d3 * d2;
+  if (vc <= 0.0f && d1 >= 0.0f && d3 <= 0.0f) return a + (d1 / (d1 - d3)) * ab;
+  const float vb = d5 * d2 - d1 * d6;
+  if (vb <= 0.0f && d2 >= 0.0f && d6 <= 0.0f) return a + (d2 / (d2 - d6)) * ac;
+  const float va = d3 * d6 - d5 * d4;
+  if (va <= 0.0f && d4 - d3 >= 0.0f && d5 - d6 >= 0.0f)
+    return a + ab + ((d4 - d3) / ((d4 - d3) + (d5 - d6))) * (ac - ab);
+  const float inv = 1.0f / (va + vb + vc);
+  return a + (vb * inv) * ab + (vc * inv) * ac;
 }
 
+/// The spread of a parallelogram that is not a rectangle, as triangle_area_density_spread: r_min from the nearer of
+/// its two triangles' nearest points, r_max from its farthest corner. NaN when ref is on the light.
+float parallelogram_area_density_spread(const Light& light, vec3 ref) {
+  const vec3 diagonal = light.e1 + light.e2;
+  const vec3 n0 = ref - nearest_point_on_triangle(ref, light.p0, light.e1, diagonal);
+  const vec3 n1 = ref - nearest_point_on_triangle(ref, light.p0, diagonal, light.e2);
+  const vec3 d0 = ref - light.p0, d1 = d0 - light.e1, d2 = d0 - light.e2, d3 = d0 - diagonal;
+  const float r2_max =
+      std::max(std::max(glm::dot(d0, d0), glm::dot(d1, d1)), std::max(glm::dot(d2, d2), glm::dot(d3, d3)));
+  const float ratio = r2_max / std::min(glm::dot(n0, n0), glm::dot(n1, n1));
+  return ratio * std::sqrt(ratio);
+}
+
+/// Whether `mode` asks for solid-angle sampling of this rectangle, parallelogram or triangle at `ref` (before the
+/// usable-range check).
+bool wants_solid_angle(const Light& light, vec3 ref, LightSampling mode, float auto_min_spread) {
+  if (mode == LightSampling::area) return false;
+  if (mode == LightSampling::solid_angle) return true;
+  if (light.kind == LightKind::rect && light.rectangular) return rect_area_density_spreads(light, ref, auto_min_spread);
+  const float spread = light.kind == LightKind::rect ? parallelogram_area_density_spread(light, ref)
+                                                     : triangle_area_density_spread(light, ref);
+  return !(spread < auto_min_spread);  // NaN (ref on the light): solid angle
+}
+
+/// For rectangular lights only (Light::rect_frame).
 bool rect_solid_angle_usable(const Light& light, vec3 ref, LightSampling mode, float auto_min_spread,
                              SphericalRectangle& sr) {
   return wants_solid_angle(light, ref, mode, auto_min_spread) &&
          make_spherical_rectangle(ref, light.rect_frame, sr) && sr.solid_angle >= kMinSolidAngle &&
          sr.solid_angle <= kMaxSolidAngle;
+}
+
+/// The same for parallelograms that are not rectangles (two spherical triangles, core/sampling.h).
+bool parallelogram_solid_angle_usable(const Light& light, vec3 ref, LightSampling mode, float auto_min_spread,
+                                      SphericalParallelogram& sp) {
+  return wants_solid_angle(light, ref, mode, auto_min_spread) &&
+         make_spherical_parallelogram(ref, light.p0, light.e1, light.e2, sp) && sp.solid_angle >= kMinSolidAngle &&
+         sp.solid_angle <= kMaxSolidAngle;
 }
 
 /// The same choice for triangles (spherical triangles, Arvo 1995); sample_light and light_pdf both ask here.
@@ -206,9 +253,15 @@ bool sample_light(const Light& light, vec3 ref, vec2 u, LightSampling mode, Ligh
   switch (light.kind) {
     case LightKind::rect: {
       if (!planar_faces(light, ref)) return false;
-      SphericalRectangle sr;
-      if (rect_solid_angle_usable(light, ref, mode, auto_min_spread, sr))
-        return finish_spherical(light, ref, sample_spherical_rectangle(sr, u), sr.solid_angle, out);
+      if (light.rectangular) {
+        SphericalRectangle sr;
+        if (rect_solid_angle_usable(light, ref, mode, auto_min_spread, sr))
+          return finish_spherical(light, ref, sample_spherical_rectangle(sr, u), sr.solid_angle, out);
+      } else {
+        SphericalParallelogram sp;
+        if (parallelogram_solid_angle_usable(light, ref, mode, auto_min_spread, sp))
+          return finish_spherical(light, ref, sample_spherical_parallelogram(sp, u), sp.solid_angle, out);
+      }
       return finish_area(light, ref, light.p0 + u.x * light.e1 + u.y * light.e2, out);
     }
     case LightKind::triangle: {
@@ -230,8 +283,13 @@ float light_pdf(const Light& light, vec3 ref, vec3 wi, float dist, vec3 n_light,
   switch (light.kind) {
     case LightKind::rect: {
       if (!planar_faces(light, ref)) return 0.0f;
-      SphericalRectangle sr;
-      if (rect_solid_angle_usable(light, ref, mode, auto_min_spread, sr)) return 1.0f / sr.solid_angle;
+      if (light.rectangular) {
+        SphericalRectangle sr;
+        if (rect_solid_angle_usable(light, ref, mode, auto_min_spread, sr)) return 1.0f / sr.solid_angle;
+      } else {
+        SphericalParallelogram sp;
+        if (parallelogram_solid_angle_usable(light, ref, mode, auto_min_spread, sp)) return 1.0f / sp.solid_angle;
+      }
       return area_to_solid_angle(1.0f / light.area, dist, glm::dot(wi, n_light));
     }
     case LightKind::triangle: {
@@ -245,33 +303,6 @@ float light_pdf(const Light& light, vec3 ref, vec3 wi, float dist, vec3 n_light,
   }
   return 0.0f;
 }
-
-namespace {
-
-/// The point of the triangle (a, a + ab, a + ac) nearest to p: the Voronoi regions of its vertices, then of its
-/// edges, then the interior (Ericson, "Real-Time Collision Detection", 5.1.5).
-vec3 nearest_point_on_triangle(vec3 p, vec3 a, vec3 ab, vec3 ac) {
-  const vec3 ap = p - a;
-  const float d1 = glm::dot(ab, ap), d2 = glm::dot(ac, ap);
-  if (d1 <= 0.0f && d2 <= 0.0f) return a;
-  const vec3 bp = ap - ab;
-  const float d3 = glm::dot(ab, bp), d4 = glm::dot(ac, bp);
-  if (d3 >= 0.0f && d4 <= d3) return a + ab;
-  const vec3 cp = ap - ac;
-  const float d5 = glm::dot(ab, cp), d6 = glm::dot(ac, cp);
-  if (d6 >= 0.0f && d5 <= d6) return a + ac;
-  const float vc = d1 * d4 - d3 * d2;
-  if (vc <= 0.0f && d1 >= 0.0f && d3 <= 0.0f) return a + (d1 / (d1 - d3)) * ab;
-  const float vb = d5 * d2 - d1 * d6;
-  if (vb <= 0.0f && d2 >= 0.0f && d6 <= 0.0f) return a + (d2 / (d2 - d6)) * ac;
-  const float va = d3 * d6 - d5 * d4;
-  if (va <= 0.0f && d4 - d3 >= 0.0f && d5 - d6 >= 0.0f)
-    return a + ab + ((d4 - d3) / ((d4 - d3) + (d5 - d6))) * (ac - ab);
-  const float inv = 1.0f / (va + vb + vc);
-  return a + (vb * inv) * ab + (vc * inv) * ac;
-}
-
-}  // namespace
 
 float triangle_area_density_spread(const Light& light, vec3 ref) {
   const vec3 n = ref - nearest_point_on_triangle(ref, light.p0, light.e1, light.e2);

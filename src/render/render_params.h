@@ -7,7 +7,7 @@
 
 namespace pt {
 
-/// automatic (the default) picks nee or mis per scene, see resolve_integrator (render/integrator.h).
+/// automatic (the default) picks nee, or mis under area light sampling: see resolve_integrator (render/integrator.h).
 enum class IntegratorKind : int { mis = 0, nee = 1, bsdf = 2, automatic = 3 };
 
 struct RenderParams {

@@ -190,8 +190,9 @@ LightOverPlane make_light_over_plane(const std::string& kind) {
   add_material(s, diffuse(vec3(out.albedo)));
   uint32_t emitter = add_material(s, diffuse(vec3(0.0f), vec3(out.radiance)));
   s.quads.push_back({vec3(-50, 0, 50), vec3(100, 0, 0), vec3(0, 0, -100), 0});
-  if (kind == "rect") {
-    vec3 c(-0.3f, 1.0f, -0.2f), e1(0.8f, 0, 0), e2(0, 0, 0.5f);  // cross(e1, e2) = -y: faces down
+  if (kind == "rect" || kind == "parallelogram") {
+    // cross(e1, e2) = -y: faces down. The parallelogram is sheared by 45 degrees: two spherical triangles.
+    vec3 c(-0.3f, 1.0f, -0.2f), e1(0.8f, 0, 0), e2 = kind == "rect" ? vec3(0, 0, 0.5f) : vec3(0.5f, 0, 0.5f);
     s.quads.push_back({c, e1, e2, emitter});
     out.light_polygon = {dvec3(c), dvec3(c + e1), dvec3(c + e1 + e2), dvec3(c + e2)};
   } else {  // an emissive mesh triangle
@@ -234,7 +235,7 @@ TEST_P(PolygonIrradiance, DirectLightingMatchesLambertsFormula) {
       }
   }
 }
-INSTANTIATE_TEST_SUITE_P(Lights, PolygonIrradiance, ::testing::Values("rect", "triangle", "gltf-quad"));
+INSTANTIATE_TEST_SUITE_P(Lights, PolygonIrradiance, ::testing::Values("rect", "parallelogram", "triangle", "gltf-quad"));
 
 TEST(SphereLight, IrradianceBelowASphereMatchesClosedForm) {
   // A sphere of radiance L and radius r whose center is at distance d straight above x: E = pi L (r/d)^2.

@@ -1,6 +1,7 @@
 // Light sampling against its claimed densities (chi-square), through sample_light, the code the integrator runs:
 // rectangle lights by area and by solid angle, a two-triangle OBJ-style light merged into one parallelogram light,
-// triangle lights by solid angle, sphere lights by cone.
+// sheared parallelograms by solid angle (two spherical triangles), triangle lights by solid angle, sphere lights by
+// cone.
 #include <gtest/gtest.h>
 
 #include "../core/chi_square.h"
@@ -12,8 +13,9 @@
 namespace pt {
 namespace {
 
-// 8 chi-square tests in this file; Bonferroni keeps the family's false alarm rate below 1%.
-const double kAlpha = 0.01 / 8;
+// 10 chi-square tests in this file (counting each reference point); Bonferroni keeps the family's false alarm
+// rate below 1%.
+const double kAlpha = 0.01 / 10;
 
 /// Chi-square of sample_light's points on a rectangle light over the rectangle's (a, b) parameters against the
 /// density it claims: pdf(omega) * d omega / d(a, b) = ls.pdf * area * cos_l / dist^2 must be what sample_light
@@ -89,6 +91,113 @@ TEST(LightSampling, TwoTrianglesOfAQuadBecomeOneSolidAngleSampledLight) {
   EXPECT_NEAR(l.n.y, -1.0f, 1e-6f);
   vec3 ref = vec3(0.3f, 0.4f, 0.2f) - rs.geo->origin;
   auto r = rect_chi_square(l, ref, LightSampling::solid_angle, 24);
+  EXPECT_GT(r.p_value, kAlpha) << r.describe();
+  EXPECT_NEAR(r.expected_total / 400000, 1.0, 2e-3);
+}
+
+/// The same for any parallelogram light, over its affine coordinates (a, b) in [0,1]^2 (p = p0 + a e1 + b e2, found
+/// with the inverse Gram matrix, so the edges need not be orthogonal): the claimed density there is
+/// ls.pdf * area * cos_l / dist^2.
+test::ChiSquareResult parallelogram_chi_square(const Light& l, vec3 ref, LightSampling mode, uint64_t seed) {
+  const dvec3 e1(l.e1), e2(l.e2);
+  const double g11 = glm::dot(e1, e1), g12 = glm::dot(e1, e2), g22 = glm::dot(e2, e2), det = g11 * g22 - g12 * g12;
+  auto sample = [&](vec2 u) {
+    LightSample ls;
+    if (!sample_light(l, ref, u, mode, ls)) return vec2(-1.0f);
+    const dvec3 q = dvec3(ls.point.p) - dvec3(l.p0);
+    const double r1 = glm::dot(q, e1), r2 = glm::dot(q, e2);
+    return vec2(float((g22 * r1 - g12 * r2) / det), float((g11 * r2 - g12 * r1) / det));
+  };
+  auto density = [&](vec2 x) {
+    vec3 d = l.p0 + x.x * l.e1 + x.y * l.e2 - ref;
+    double dist = glm::length(d);
+    double cos_l = std::abs(glm::dot(d, l.n)) / dist;
+    float pdf = light_pdf(l, ref, vec3(d / float(dist)), float(dist), l.n, mode);
+    return double(pdf) * l.area * cos_l / (dist * dist);
+  };
+  return test::chi_square_2d(sample, density, 20, 20, 400000, seed);
+}
+
+/// The solid angle of a parallelogram at ref by Van Oosterom and Strackee's formula for each half, in double: an
+/// independent check of SphericalParallelogram's.
+double parallelogram_solid_angle(const Light& l, vec3 ref) {
+  auto tri = [&](dvec3 a, dvec3 b, dvec3 c) {
+    const dvec3 o(ref);
+    a -= o, b -= o, c -= o;
+    const double la = glm::length(a), lb = glm::length(b), lc = glm::length(c);
+    const double num = std::abs(glm::dot(a, glm::cross(b, c)));
+    const double den = la * lb * lc + glm::dot(a, b) * lc + glm::dot(a, c) * lb + glm::dot(b, c) * la;
+    return 2.0 * std::atan2(num, den);
+  };
+  const dvec3 p0(l.p0), p1 = p0 + dvec3(l.e1), p2 = p1 + dvec3(l.e2), p3 = p0 + dvec3(l.e2);
+  return tri(p0, p1, p2) + tri(p0, p2, p3);
+}
+
+TEST(LightSampling, ParallelogramBySolidAngleFollowsItsPdf) {
+  // A sheared quad (60 degrees between its edges), so no spherical rectangle applies: below it (0.5 sr), close to
+  // it (5 sr: area sampling's density is far from uniform) and far away (2.6e-3 sr).
+  Light l = make_rect_light(vec3(-0.6f, 1, -0.4f), vec3(1.0f, 0, 0), vec3(0.4f, 0, 0.7f), vec3(1));
+  ASSERT_FALSE(l.rectangular);
+  ASSERT_LT(l.n.y, -0.99f);  // faces -y
+  const vec3 refs[] = {vec3(0.1f, 0.0f, 0.1f), vec3(0.05f, 0.93f, -0.05f), vec3(3.0f, -6.0f, 4.0f)};
+  for (int i = 0; i < 3; ++i) {
+    const double omega = parallelogram_solid_angle(l, refs[i]);
+    ASSERT_GT(omega, 3e-4);  // inside the solid-angle range, so this is the spherical path
+    ASSERT_LT(omega, 6.22);
+    LightSample ls;
+    ASSERT_TRUE(sample_light(l, refs[i], vec2(0.3f, 0.6f), LightSampling::solid_angle, ls));
+    EXPECT_NEAR(ls.pdf, 1.0 / omega, 2e-4 / omega) << "ref " << i;
+    auto r = parallelogram_chi_square(l, refs[i], LightSampling::solid_angle, 31 + i);
+    EXPECT_GT(r.p_value, kAlpha) << "ref " << i << " " << r.describe();
+    EXPECT_NEAR(r.expected_total / 400000, 1.0, 2e-3) << "ref " << i;
+  }
+}
+
+TEST(LightSampling, SphericalParallelogramKeepsStrataAndStaysOnTheLight) {
+  // u.x runs over the first triangle's solid angle, then the second's: the map is monotone in u.x and continuous
+  // across the diagonal (the two halves meet there), so a stratum of u stays one region of the light.
+  SphericalParallelogram sp;
+  const vec3 p0(-0.6f, 1, -0.4f), e1(1.0f, 0, 0), e2(0.4f, 0, 0.7f), ref(0.1f, 0.0f, 0.1f);
+  ASSERT_TRUE(make_spherical_parallelogram(ref, p0, e1, e2, sp));
+  const float split = sp.t[0].solid_angle / sp.solid_angle;
+  for (float v : {0.1f, 0.5f, 0.9f}) {
+    const vec3 below = sample_spherical_parallelogram(sp, {std::nextafter(split, 0.0f), v});
+    const vec3 above = sample_spherical_parallelogram(sp, {std::nextafter(split, 1.0f), v});
+    EXPECT_LT(glm::length(below - above), 1e-4f) << v;
+  }
+  // Every sample lies on the parallelogram: its affine coordinates (a, b) in the plane y = 1 are in [0, 1].
+  Pcg32 rng(5, 6);
+  for (int k = 0; k < 10000; ++k) {
+    const vec3 q = sample_spherical_parallelogram(sp, {rng.next_float(), rng.next_float()}) - p0;
+    const float det = e1.x * e2.z - e1.z * e2.x;
+    const float a = (q.x * e2.z - q.z * e2.x) / det, b = (e1.x * q.z - e1.z * q.x) / det;
+    ASSERT_GE(a, -1e-5f) << k;
+    ASSERT_LE(a, 1.0f + 1e-5f) << k;
+    ASSERT_GE(b, -1e-5f) << k;
+    ASSERT_LE(b, 1.0f + 1e-5f) << k;
+    ASSERT_NEAR(q.y, 0.0f, 1e-6f) << k;
+  }
+}
+
+TEST(LightSampling, TwoTrianglesOfAShearedQuadBecomeOneSolidAngleSampledParallelogram) {
+  // An OBJ quad that is not a rectangle still merges into one light; it is sampled by its two spherical triangles.
+  Scene s;
+  uint32_t white = test::add_material(s, test::diffuse(vec3(0.5f)));
+  uint32_t light = test::add_material(s, test::diffuse(vec3(0.0f), vec3(4.0f)));
+  Mesh m;
+  m.positions = {vec3(-0.6f, 1, -0.4f), vec3(0.4f, 1, -0.4f), vec3(0.8f, 1, 0.3f), vec3(-0.2f, 1, 0.3f),
+                 vec3(-5, 0, -5), vec3(5, 0, -5), vec3(5, 0, 5)};
+  m.indices = {uvec3(0, 1, 2), uvec3(0, 2, 3), uvec3(4, 6, 5)};  // clockwise seen from above: the light faces down
+  m.materials = {light, light, white};
+  s.meshes.push_back(m);
+  RenderScene rs = make_render_scene(s);
+  ASSERT_EQ(rs.lights.lights.size(), 1u);
+  const Light& l = rs.lights.lights[0];
+  ASSERT_EQ(l.kind, LightKind::rect);
+  EXPECT_FALSE(l.rectangular);
+  EXPECT_NEAR(l.area, 0.7f, 1e-5f);
+  vec3 ref = vec3(0.1f, 0.4f, 0.0f) - rs.geo->origin;
+  auto r = parallelogram_chi_square(l, ref, LightSampling::solid_angle, 34);
   EXPECT_GT(r.p_value, kAlpha) << r.describe();
   EXPECT_NEAR(r.expected_total / 400000, 1.0, 2e-3);
 }
@@ -231,6 +340,10 @@ void check_automatic_choice(const Light& l) {
         SphericalTriangle st;
         ASSERT_TRUE(make_spherical_triangle(ref, l.p0, l.e1, l.e2, st));
         solid_angle = st.solid_angle;
+      } else if (!l.rectangular) {
+        SphericalParallelogram sp;
+        ASSERT_TRUE(make_spherical_parallelogram(ref, l.p0, l.e1, l.e2, sp));
+        solid_angle = sp.solid_angle;
       } else {
         SphericalRectangle sr;
         ASSERT_TRUE(make_spherical_rectangle(ref, l.p0, l.e1, l.e2, sr));
@@ -240,7 +353,7 @@ void check_automatic_choice(const Light& l) {
           std::abs(ls[0].pdf * solid_angle - 1.0f) < 1e-3f && std::abs(ls[1].pdf * solid_angle - 1.0f) < 1e-3f;
       const double s = spread(ref);
       if (std::abs(s / threshold - 1.0) < 0.02) continue;  // too close to call with a 64 x 64 grid
-      ASSERT_EQ(took_solid_angle, s >= threshold) << (tri ? "triangle" : "rectangle") << " spread " << s
+      ASSERT_EQ(took_solid_angle, s >= threshold) << (tri ? "triangle" : l.rectangular ? "rectangle" : "parallelogram") << " spread " << s
                                                   << " threshold " << threshold << " at " << ref.x << "," << ref.y
                                                   << "," << ref.z;
       (took_solid_angle ? solid : area)++;
@@ -258,6 +371,7 @@ void check_automatic_choice(const Light& l) {
 // must be seen, at both thresholds.
 TEST(LightSampling, AutomaticTakesSolidAngleWhereTheAreaDensitySpreads) {
   for (const Light& l : {make_rect_light(vec3(-0.5f, 1, -0.4f), vec3(1, 0, 0), vec3(0, 0, 0.8f), vec3(1)),
+                         make_rect_light(vec3(-0.5f, 1, -0.4f), vec3(0.8f, 0, 0), vec3(0.3f, 0, 0.8f), vec3(1)),
                          make_triangle_light(vec3(-0.5f, 1, -0.4f), vec3(0.5f, 1, -0.4f), vec3(-0.2f, 1, 0.5f), vec3(1))})
     check_automatic_choice(l);
 }
