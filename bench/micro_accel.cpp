@@ -203,29 +203,31 @@ void BM_spherical_rectangle(benchmark::State& state) {
 }
 BENCHMARK(BM_spherical_rectangle);
 
-// Spherical triangle (Arvo 1995): the same, for half of that rectangle, as triangle lights do it.
-void BM_spherical_triangle(benchmark::State& state) {
+/// Setup at each shading point of the batch plus one sample, for a spherical shape S made by `make` and sampled by
+/// `sample` from a light in the plane y = 1 with corner (-0.5, 1, -0.5) and edges e1, e2.
+template <class S, bool (*make)(vec3, vec3, vec3, vec3, S&), vec3 (*sample)(const S&, vec2)>
+void spherical_setup_and_sample(benchmark::State& state, vec3 e1, vec3 e2) {
   const Batch& d = batch();
   run_batch(state, [&](size_t i) {
-    SphericalTriangle st;
-    bool ok = make_spherical_triangle(d.refs[i], vec3(-0.5f, 1.0f, -0.5f), vec3(1, 0, 0), vec3(0, 0, 1), st);
-    vec3 p = ok ? sample_spherical_triangle(st, d.u[i]) : vec3(0.0f);
+    S shape;
+    bool ok = make(d.refs[i], vec3(-0.5f, 1.0f, -0.5f), e1, e2, shape);
+    vec3 p = ok ? sample(shape, d.u[i]) : vec3(0.0f);
     benchmark::DoNotOptimize(p);
     return ok;
   });
+}
+
+// Spherical triangle (Arvo 1995): the same, for half of that rectangle, as triangle lights do it.
+void BM_spherical_triangle(benchmark::State& state) {
+  spherical_setup_and_sample<SphericalTriangle, make_spherical_triangle, sample_spherical_triangle>(
+      state, vec3(1, 0, 0), vec3(0, 0, 1));
 }
 BENCHMARK(BM_spherical_triangle);
 
 // Spherical parallelogram (two spherical triangles): a 1 x 1 quad sheared by 45 degrees, as sheared quad lights do it.
 void BM_spherical_parallelogram(benchmark::State& state) {
-  const Batch& d = batch();
-  run_batch(state, [&](size_t i) {
-    SphericalParallelogram sp;
-    bool ok = make_spherical_parallelogram(d.refs[i], vec3(-0.5f, 1.0f, -0.5f), vec3(1, 0, 0), vec3(0.5f, 0, 1), sp);
-    vec3 p = ok ? sample_spherical_parallelogram(sp, d.u[i]) : vec3(0.0f);
-    benchmark::DoNotOptimize(p);
-    return ok;
-  });
+  spherical_setup_and_sample<SphericalParallelogram, make_spherical_parallelogram, sample_spherical_parallelogram>(
+      state, vec3(1, 0, 0), vec3(0.5f, 0, 1));
 }
 BENCHMARK(BM_spherical_parallelogram);
 

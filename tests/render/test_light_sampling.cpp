@@ -67,19 +67,25 @@ TEST(LightSampling, RectangleBySolidAngleFollowsItsPdf) {
   EXPECT_NEAR(r.expected_total / 400000, 1.0, 2e-3);
 }
 
-TEST(LightSampling, TwoTrianglesOfAQuadBecomeOneSolidAngleSampledLight) {
-  // An OBJ quad arrives as two triangles sharing a diagonal; they must become one rectangle light that both
-  // triangles map to, sampled by solid angle.
+/// An emissive quad (corners in order, in the plane y = 1) as an OBJ delivers it, two triangles sharing the diagonal
+/// 0-2, wound clockwise seen from above so the light faces down, over a floor triangle.
+RenderScene obj_quad_light_scene(const vec3 (&quad)[4]) {
   Scene s;
   uint32_t white = test::add_material(s, test::diffuse(vec3(0.5f)));
   uint32_t light = test::add_material(s, test::diffuse(vec3(0.0f), vec3(4.0f)));
   Mesh m;
-  m.positions = {vec3(-0.5f, 1, -0.5f), vec3(0.5f, 1, -0.5f), vec3(0.5f, 1, 0.5f), vec3(-0.5f, 1, 0.5f),
-                 vec3(-5, 0, -5), vec3(5, 0, -5), vec3(5, 0, 5)};
-  m.indices = {uvec3(0, 1, 2), uvec3(0, 2, 3), uvec3(4, 6, 5)};  // clockwise seen from above: the light faces down
+  m.positions = {quad[0], quad[1], quad[2], quad[3], vec3(-5, 0, -5), vec3(5, 0, -5), vec3(5, 0, 5)};
+  m.indices = {uvec3(0, 1, 2), uvec3(0, 2, 3), uvec3(4, 6, 5)};
   m.materials = {light, light, white};
   s.meshes.push_back(m);
-  RenderScene rs = make_render_scene(s);
+  return make_render_scene(s);
+}
+
+TEST(LightSampling, TwoTrianglesOfAQuadBecomeOneSolidAngleSampledLight) {
+  // An OBJ quad arrives as two triangles sharing a diagonal; they must become one rectangle light that both
+  // triangles map to, sampled by solid angle.
+  RenderScene rs =
+      obj_quad_light_scene({vec3(-0.5f, 1, -0.5f), vec3(0.5f, 1, -0.5f), vec3(0.5f, 1, 0.5f), vec3(-0.5f, 1, 0.5f)});
   ASSERT_EQ(rs.lights.lights.size(), 1u);
   EXPECT_EQ(rs.tri_light[0], 0);
   EXPECT_EQ(rs.tri_light[1], 0);
@@ -95,18 +101,22 @@ TEST(LightSampling, TwoTrianglesOfAQuadBecomeOneSolidAngleSampledLight) {
   EXPECT_NEAR(r.expected_total / 400000, 1.0, 2e-3);
 }
 
+/// The (a, b) with p = p0 + a e1 + b e2 for a point p in the light's plane, by the inverse Gram matrix of its edges
+/// (which need not be orthogonal), in double.
+glm::dvec2 affine_coordinates(const Light& l, vec3 p) {
+  const dvec3 e1(l.e1), e2(l.e2), q = dvec3(p) - dvec3(l.p0);
+  const double g11 = glm::dot(e1, e1), g12 = glm::dot(e1, e2), g22 = glm::dot(e2, e2), det = g11 * g22 - g12 * g12;
+  const double r1 = glm::dot(q, e1), r2 = glm::dot(q, e2);
+  return {(g22 * r1 - g12 * r2) / det, (g11 * r2 - g12 * r1) / det};
+}
+
 /// The same for any parallelogram light, over its affine coordinates (a, b) in [0,1]^2 (p = p0 + a e1 + b e2, found
 /// with the inverse Gram matrix, so the edges need not be orthogonal): the claimed density there is
 /// ls.pdf * area * cos_l / dist^2.
 test::ChiSquareResult parallelogram_chi_square(const Light& l, vec3 ref, LightSampling mode, uint64_t seed) {
-  const dvec3 e1(l.e1), e2(l.e2);
-  const double g11 = glm::dot(e1, e1), g12 = glm::dot(e1, e2), g22 = glm::dot(e2, e2), det = g11 * g22 - g12 * g12;
   auto sample = [&](vec2 u) {
     LightSample ls;
-    if (!sample_light(l, ref, u, mode, ls)) return vec2(-1.0f);
-    const dvec3 q = dvec3(ls.point.p) - dvec3(l.p0);
-    const double r1 = glm::dot(q, e1), r2 = glm::dot(q, e2);
-    return vec2(float((g22 * r1 - g12 * r2) / det), float((g11 * r2 - g12 * r1) / det));
+    return sample_light(l, ref, u, mode, ls) ? vec2(affine_coordinates(l, ls.point.p)) : vec2(-1.0f);
   };
   auto density = [&](vec2 x) {
     vec3 d = l.p0 + x.x * l.e1 + x.y * l.e2 - ref;
@@ -181,16 +191,8 @@ TEST(LightSampling, SphericalParallelogramKeepsStrataAndStaysOnTheLight) {
 
 TEST(LightSampling, TwoTrianglesOfAShearedQuadBecomeOneSolidAngleSampledParallelogram) {
   // An OBJ quad that is not a rectangle still merges into one light; it is sampled by its two spherical triangles.
-  Scene s;
-  uint32_t white = test::add_material(s, test::diffuse(vec3(0.5f)));
-  uint32_t light = test::add_material(s, test::diffuse(vec3(0.0f), vec3(4.0f)));
-  Mesh m;
-  m.positions = {vec3(-0.6f, 1, -0.4f), vec3(0.4f, 1, -0.4f), vec3(0.8f, 1, 0.3f), vec3(-0.2f, 1, 0.3f),
-                 vec3(-5, 0, -5), vec3(5, 0, -5), vec3(5, 0, 5)};
-  m.indices = {uvec3(0, 1, 2), uvec3(0, 2, 3), uvec3(4, 6, 5)};  // clockwise seen from above: the light faces down
-  m.materials = {light, light, white};
-  s.meshes.push_back(m);
-  RenderScene rs = make_render_scene(s);
+  RenderScene rs =
+      obj_quad_light_scene({vec3(-0.6f, 1, -0.4f), vec3(0.4f, 1, -0.4f), vec3(0.8f, 1, 0.3f), vec3(-0.2f, 1, 0.3f)});
   ASSERT_EQ(rs.lights.lights.size(), 1u);
   const Light& l = rs.lights.lights[0];
   ASSERT_EQ(l.kind, LightKind::rect);
@@ -205,15 +207,12 @@ TEST(LightSampling, TwoTrianglesOfAShearedQuadBecomeOneSolidAngleSampledParallel
 /// The same for a triangle light, over the (x, y) in [0,1]^2 of the inverse square-root warp (b1 + b2 = sqrt(x),
 /// b1 = sqrt(x) y), which is uniform by area: the claimed density there is ls.pdf * area * cos_l / dist^2.
 test::ChiSquareResult tri_chi_square(const Light& l, vec3 ref, LightSampling mode, uint64_t seed) {
-  const dvec3 e1(l.e1), e2(l.e2);
-  const double g11 = glm::dot(e1, e1), g12 = glm::dot(e1, e2), g22 = glm::dot(e2, e2), det = g11 * g22 - g12 * g12;
   auto sample = [&](vec2 u) {
     LightSample ls;
     if (!sample_light(l, ref, u, mode, ls)) return vec2(-1.0f);
-    const dvec3 q = dvec3(ls.point.p) - dvec3(l.p0);
-    const double r1 = glm::dot(q, e1), r2 = glm::dot(q, e2);
-    const double b1 = (g22 * r1 - g12 * r2) / det, b2 = (g11 * r2 - g12 * r1) / det, s = b1 + b2;
-    return vec2(float(s * s), s > 0.0 ? float(b1 / s) : 0.0f);
+    const glm::dvec2 b = affine_coordinates(l, ls.point.p);  // barycentrics b1, b2
+    const double s = b.x + b.y;
+    return vec2(float(s * s), s > 0.0 ? float(b.x / s) : 0.0f);
   };
   auto density = [&](vec2 x) {
     const float s = std::sqrt(x.x);
