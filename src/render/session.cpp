@@ -58,7 +58,12 @@ void RenderSession::set_publish_maps(bool on) {
 }
 
 void RenderSession::set_target_spp(int spp) {
-  target_spp_ = spp;
+  {
+    // Under the mutex, like every other change the driver waits on: a store between the driver's check of the
+    // predicate and its sleep would otherwise lose the wake-up (raising the target of a stopped session).
+    std::lock_guard lock(mutex_);
+    target_spp_ = spp;
+  }
   wake_.notify_all();
 }
 

@@ -235,7 +235,8 @@ TEST_P(PolygonIrradiance, DirectLightingMatchesLambertsFormula) {
       }
   }
 }
-INSTANTIATE_TEST_SUITE_P(Lights, PolygonIrradiance, ::testing::Values("rect", "parallelogram", "triangle", "gltf-quad"));
+INSTANTIATE_TEST_SUITE_P(Lights, PolygonIrradiance,
+                         ::testing::Values("rect", "parallelogram", "triangle", "gltf-quad"));
 
 TEST(SphereLight, IrradianceBelowASphereMatchesClosedForm) {
   // A sphere of radiance L and radius r whose center is at distance d straight above x: E = pi L (r/d)^2.

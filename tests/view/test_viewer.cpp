@@ -141,7 +141,9 @@ TEST(Viewer, OpensAndShowsANonUniformImage) {
 TEST(Viewer, OrbitShowsTheImageOfTheOrbitedCamera) {
   REQUIRE_DISPLAY();
   TempDir dir;
-  std::string script = write_script(dir, "wait-frames 1\norbit 35 10\nexpect-restart\nstop-at-spp 4\nwait-frames 4\n"
+  // stop-at-spp before the orbit: the orbit's epoch then stops at exactly 4 samples (set after it, the epoch could
+  // already be past 4 on a loaded machine).
+  std::string script = write_script(dir, "stop-at-spp 4\nwait-frames 1\norbit 35 10\nexpect-restart\nwait-frames 4\n"
                                          "save " + dir / "viewer.pfm" + "\nquit\n");
   auto r = run_window({"--size", "96x64", "--max-depth", "6", "--script", script});
   ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -178,9 +180,12 @@ TEST(Viewer, PanDollyLightIntensityAndWaitMs) {
   REQUIRE_DISPLAY();
   TempDir dir;
   std::string script = write_script(
-      dir, "stop-at-spp 2\nwait-frames 2\nsave " + dir / "a.pfm" + "\nlight-intensity 2\nexpect-restart\n"
-           "wait-frames 2\nsave " + dir / "b.pfm" + "\npan 0.1 0\nexpect-restart\ndolly 0.7\nexpect-restart\n"
-           "wait-frames 2\nsave " + dir / "c.pfm" + "\nquit\n");
+      // Every saved image comes from an epoch that began after stop-at-spp 2, so each holds exactly 2 samples per
+      // pixel: the first epoch may already be past 2 when the script starts (it did on a loaded machine).
+      dir, "stop-at-spp 2\nlight-intensity 0.5\nexpect-restart\nwait-frames 2\nsave " + dir / "a.pfm" +
+               "\nlight-intensity 4\nexpect-restart\nwait-frames 2\nsave " + dir / "b.pfm" +
+               "\npan 0.1 0\nexpect-restart\ndolly 0.7\nexpect-restart\nwait-frames 2\nsave " + dir / "c.pfm" +
+               "\nquit\n");
   auto r = run_window({"--size", "64x64", "--max-depth", "4", "--script", script, "--stats-json", dir / "s.json"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   {
@@ -203,8 +208,8 @@ TEST(Viewer, PanDollyLightIntensityAndWaitMs) {
   }
   Result<Image> a = load_image(dir / "a.pfm"), b = load_image(dir / "b.pfm"), c = load_image(dir / "c.pfm");
   ASSERT_TRUE(a.ok() && b.ok() && c.ok());
-  // The same samples with twice the emission: radiance is linear in it.
-  EXPECT_NEAR(mean(*b) / mean(*a), 2.0, 1e-3);
+  // The same samples with four times the emission (half, then twice the original): radiance is linear in it.
+  EXPECT_NEAR(mean(*b) / mean(*a), 4.0, 4e-3);
   Camera cam = builtin_camera("cornell-spheres");
   pan_camera(cam, 0.1f, 0.0f);
   dolly_camera(cam, 0.7f);
@@ -536,8 +541,8 @@ TEST(Viewer, OffloadOrbitRestartsEveryRank) {
   GTEST_SKIP() << "built without MPI (PTVIEW_MPI=OFF)";
 #else
   TempDir dir;
-  std::string script = write_script(dir, "wait-frames 1\norbit 35 10\nexpect-restart\nlight-size 0.3 0.2\n"
-                                         "expect-restart\nlight-intensity 2\nexpect-restart\nstop-at-spp 2\n"
+  std::string script = write_script(dir, "stop-at-spp 2\nwait-frames 1\norbit 35 10\nexpect-restart\n"
+                                         "light-size 0.3 0.2\nexpect-restart\nlight-intensity 2\nexpect-restart\n"
                                          "wait-frames 2\nwait-spp 40\nsave " + dir / "viewer.pfm" + "\nsave-scene " +
                                          dir / "edited.json" + "\nscreenshot " + dir / "shot.png" + "\nquit\n");
   auto r = run_window({"--size", "96x64", "--max-depth", "6", "--threads", "1", "--script", script, "--stats-json",
