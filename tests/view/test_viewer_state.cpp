@@ -436,6 +436,24 @@ TEST(SceneLights, EveryLightOfEveryBuiltinSceneCanBeResizedAndScaled) {
   }
 }
 
+TEST(SceneLights, LabelsNameTheShape) {
+  // A quad light with a right angle is a rectangle, a sheared one a parallelogram (sampled differently:
+  // render/light.h); sizes are the extents along the light's two edges.
+  Scene s;
+  Material lamp;
+  lamp.name = "lamp";
+  lamp.emission = vec3(1.0f);
+  s.materials.push_back(lamp);
+  s.quads.push_back({vec3(0), vec3(2, 0, 0), vec3(0, 0, -1), 0});
+  s.quads.push_back({vec3(0), vec3(2, 0, 0), vec3(1, 0, -1), 0});
+  ViewerState st;
+  st.init(std::move(s), small_params(), {}, -1);
+  ASSERT_EQ(st.lights.size(), 2u);
+  EXPECT_EQ(light_label(st.scene, st.lights[0]), "lamp (rectangle 2 x 1)");
+  EXPECT_EQ(light_label(st.scene, st.lights[1]).rfind("lamp (parallelogram", 0), 0u)
+      << light_label(st.scene, st.lights[1]);
+}
+
 TEST(SceneLights, PickingALightSelectsIt) {
   ViewerState st;
   RenderParams p = small_params();
