@@ -137,21 +137,20 @@ float parallelogram_area_density_spread(const Light& light, vec3 ref) {
   return ratio * std::sqrt(ratio);
 }
 
-/// Whether `mode` asks for solid-angle sampling of this rectangle, parallelogram or triangle at `ref` (before the
-/// usable-range check).
-bool wants_solid_angle(const Light& light, vec3 ref, LightSampling mode, float auto_min_spread) {
+/// Whether `mode` asks for solid-angle sampling (before the usable-range check); under automatic, whether the light's
+/// area-sampling density spreads by at least auto_min_spread at ref, by the test `spread_test` for its shape (a
+/// template so that each shape's test is inlined into its caller, which runs once per light sample).
+template <class SpreadTest>
+inline bool wants_solid_angle(LightSampling mode, SpreadTest spread_test) {
   if (mode == LightSampling::area) return false;
   if (mode == LightSampling::solid_angle) return true;
-  if (light.kind == LightKind::rect && light.rectangular) return rect_area_density_spreads(light, ref, auto_min_spread);
-  const float spread = light.kind == LightKind::rect ? parallelogram_area_density_spread(light, ref)
-                                                     : triangle_area_density_spread(light, ref);
-  return !(spread < auto_min_spread);  // NaN (ref on the light): solid angle
+  return spread_test();
 }
 
 /// For rectangular lights only (Light::rect_frame).
 bool rect_solid_angle_usable(const Light& light, vec3 ref, LightSampling mode, float auto_min_spread,
                              SphericalRectangle& sr) {
-  return wants_solid_angle(light, ref, mode, auto_min_spread) &&
+  return wants_solid_angle(mode, [&] { return rect_area_density_spreads(light, ref, auto_min_spread); }) &&
          make_spherical_rectangle(ref, light.rect_frame, sr) && sr.solid_angle >= kMinSolidAngle &&
          sr.solid_angle <= kMaxSolidAngle;
 }
@@ -159,7 +158,8 @@ bool rect_solid_angle_usable(const Light& light, vec3 ref, LightSampling mode, f
 /// The same for parallelograms that are not rectangles (two spherical triangles, core/sampling.h).
 bool parallelogram_solid_angle_usable(const Light& light, vec3 ref, LightSampling mode, float auto_min_spread,
                                       SphericalParallelogram& sp) {
-  return wants_solid_angle(light, ref, mode, auto_min_spread) &&
+  // NaN spread (ref on the light): solid angle, as for triangles.
+  return wants_solid_angle(mode, [&] { return !(parallelogram_area_density_spread(light, ref) < auto_min_spread); }) &&
          make_spherical_parallelogram(ref, light.p0, light.e1, light.e2, sp) && sp.solid_angle >= kMinSolidAngle &&
          sp.solid_angle <= kMaxSolidAngle;
 }
@@ -167,7 +167,7 @@ bool parallelogram_solid_angle_usable(const Light& light, vec3 ref, LightSamplin
 /// The same choice for triangles (spherical triangles, Arvo 1995); sample_light and light_pdf both ask here.
 bool tri_solid_angle_usable(const Light& light, vec3 ref, LightSampling mode, float auto_min_spread,
                             SphericalTriangle& st) {
-  return wants_solid_angle(light, ref, mode, auto_min_spread) &&
+  return wants_solid_angle(mode, [&] { return !(triangle_area_density_spread(light, ref) < auto_min_spread); }) &&
          make_spherical_triangle(ref, light.p0, light.e1, light.e2, st) && st.solid_angle >= kMinSolidAngle &&
          st.solid_angle <= kMaxSolidAngle;
 }
