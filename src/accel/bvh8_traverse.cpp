@@ -19,20 +19,19 @@ constexpr float kRobust = 1.0f + 2.0f * gamma_bound(3);
 inline uint32_t node_test_scalar(const Bvh8Node& node, const NodeRay& r, float tmax, float tnear[8]) {
   uint32_t mask = 0;
   for (int i = 0; i < 8; ++i) {
-    float t0 = 0.0f, t1 = tmax;
+    float t0 = 0.0f, t1 = tmax * kRobust;  // far distances come scaled by kFarScale (NodeRay)
     for (int a = 0; a < 3; ++a) {
       float near, far;
       if constexpr (kNodeTestFma) {
         near = std::fma(node.bounds[r.near[a]][i], r.inv_dir[a], -r.org_inv_near[a]);
-        far = std::fma(node.bounds[r.far[a]][i], r.inv_dir[a], -r.org_inv_far[a]);
+        far = std::fma(node.bounds[r.far[a]][i], r.inv_dir_far[a], -r.org_inv_far[a]);
       } else {
         near = (node.bounds[r.near[a]][i] - r.org[a]) * r.inv_dir[a];
-        far = (node.bounds[r.far[a]][i] - r.org[a]) * r.inv_dir[a];
+        far = (node.bounds[r.far[a]][i] - r.org[a]) * r.inv_dir_far[a];
       }
       t0 = near > t0 ? near : t0;  // a NaN distance leaves the interval unchanged
       t1 = far < t1 ? far : t1;
     }
-    t1 *= kRobust;
     tnear[i] = t0;
     mask |= uint32_t(t0 <= t1) << i;
   }
@@ -53,7 +52,7 @@ constexpr const char* kSimdName = "sse";
 #if defined(__SSE2__)
 constexpr int kLanes = sizeof(VFloat) / sizeof(float);
 struct SimdNodeRay {
-  VFloat org[3], inv[3], org_inv_near[3], org_inv_far[3];
+  VFloat org[3], inv[3], inv_far[3], org_inv_near[3], org_inv_far[3];
   int near[3], far[3];
   explicit SimdNodeRay(const NodeRay& r) {
     for (int a = 0; a < 3; ++a) {
@@ -61,6 +60,7 @@ struct SimdNodeRay {
       org_inv_near[a] = PT_V(set1_ps)(r.org_inv_near[a]);
       org_inv_far[a] = PT_V(set1_ps)(r.org_inv_far[a]);
       inv[a] = PT_V(set1_ps)(r.inv_dir[a]);
+      inv_far[a] = PT_V(set1_ps)(r.inv_dir_far[a]);
       near[a] = r.near[a];
       far[a] = r.far[a];
     }
@@ -71,19 +71,18 @@ struct SimdNodeRay {
 PT_INLINE uint32_t node_test_simd(const Bvh8Node& node, const SimdNodeRay& r, float tmax, float tnear[8]) {
   uint32_t mask = 0;
   for (int h = 0; h < 8; h += kLanes) {
-    VFloat t0 = PT_V(setzero_ps)(), t1 = PT_V(set1_ps)(tmax);
+    VFloat t0 = PT_V(setzero_ps)(), t1 = PT_V(set1_ps)(tmax * kRobust);
     for (int a = 0; a < 3; ++a) {
 #if defined(__FMA__)
       const VFloat near = PT_V(fmsub_ps)(PT_V(load_ps)(node.bounds[r.near[a]] + h), r.inv[a], r.org_inv_near[a]);
-      const VFloat far = PT_V(fmsub_ps)(PT_V(load_ps)(node.bounds[r.far[a]] + h), r.inv[a], r.org_inv_far[a]);
+      const VFloat far = PT_V(fmsub_ps)(PT_V(load_ps)(node.bounds[r.far[a]] + h), r.inv_far[a], r.org_inv_far[a]);
 #else
       const VFloat near = PT_V(mul_ps)(PT_V(sub_ps)(PT_V(load_ps)(node.bounds[r.near[a]] + h), r.org[a]), r.inv[a]);
-      const VFloat far = PT_V(mul_ps)(PT_V(sub_ps)(PT_V(load_ps)(node.bounds[r.far[a]] + h), r.org[a]), r.inv[a]);
+      const VFloat far = PT_V(mul_ps)(PT_V(sub_ps)(PT_V(load_ps)(node.bounds[r.far[a]] + h), r.org[a]), r.inv_far[a]);
 #endif
       t0 = PT_V(max_ps)(near, t0);  // max/min return the second operand when the first is NaN
       t1 = PT_V(min_ps)(far, t1);
     }
-    t1 = PT_V(mul_ps)(t1, PT_V(set1_ps)(kRobust));
     PT_V(storeu_ps)(tnear + h, t0);
 #if defined(__AVX__)
     mask |= uint32_t(_mm256_movemask_ps(_mm256_cmp_ps(t0, t1, _CMP_LE_OQ))) << h;
