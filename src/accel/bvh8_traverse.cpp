@@ -19,20 +19,19 @@ constexpr float kRobust = 1.0f + 2.0f * gamma_bound(3);
 inline uint32_t node_test_scalar(const Bvh8Node& node, const NodeRay& r, float tmax, float tnear[8]) {
   uint32_t mask = 0;
   for (int i = 0; i < 8; ++i) {
-    float t0 = 0.0f, t1 = tmax;
+    float t0 = 0.0f, t1 = tmax * kRobust;  // far distances come scaled by kFarScale (NodeRay)
     for (int a = 0; a < 3; ++a) {
       float near, far;
       if constexpr (kNodeTestFma) {
         near = std::fma(node.bounds[r.near[a]][i], r.inv_dir[a], -r.org_inv_near[a]);
-        far = std::fma(node.bounds[r.far[a]][i], r.inv_dir[a], -r.org_inv_far[a]);
+        far = std::fma(node.bounds[r.far[a]][i], r.inv_dir_far[a], -r.org_inv_far[a]);
       } else {
         near = (node.bounds[r.near[a]][i] - r.org[a]) * r.inv_dir[a];
-        far = (node.bounds[r.far[a]][i] - r.org[a]) * r.inv_dir[a];
+        far = (node.bounds[r.far[a]][i] - r.org[a]) * r.inv_dir_far[a];
       }
       t0 = near > t0 ? near : t0;  // a NaN distance leaves the interval unchanged
       t1 = far < t1 ? far : t1;
     }
-    t1 *= kRobust;
     tnear[i] = t0;
     mask |= uint32_t(t0 <= t1) << i;
   }
@@ -53,7 +52,7 @@ constexpr const char* kSimdName = "sse";
 #if defined(__SSE2__)
 constexpr int kLanes = sizeof(VFloat) / sizeof(float);
 struct SimdNodeRay {
-  VFloat org[3], inv[3], org_inv_near[3], org_inv_far[3];
+  VFloat org[3], inv[3], inv_far[3], org_inv_near[3], org_inv_far[3];
   int near[3], far[3];
   explicit SimdNodeRay(const NodeRay& r) {
     for (int a = 0; a < 3; ++a) {
@@ -61,6 +60,7 @@ struct SimdNodeRay {
       org_inv_near[a] = PT_V(set1_ps)(r.org_inv_near[a]);
       org_inv_far[a] = PT_V(set1_ps)(r.org_inv_far[a]);
       inv[a] = PT_V(set1_ps)(r.inv_dir[a]);
+      inv_far[a] = PT_V(set1_ps)(r.inv_dir_far[a]);
       near[a] = r.near[a];
       far[a] = r.far[a];
     }
@@ -71,19 +71,18 @@ struct SimdNodeRay {
 PT_INLINE uint32_t node_test_simd(const Bvh8Node& node, const SimdNodeRay& r, float tmax, float tnear[8]) {
   uint32_t mask = 0;
   for (int h = 0; h < 8; h += kLanes) {
-    VFloat t0 = PT_V(setzero_ps)(), t1 = PT_V(set1_ps)(tmax);
+    VFloat t0 = PT_V(setzero_ps)(), t1 = PT_V(set1_ps)(tmax * kRobust);
     for (int a = 0; a < 3; ++a) {
 #if defined(__FMA__)
       const VFloat near = PT_V(fmsub_ps)(PT_V(load_ps)(node.bounds[r.near[a]] + h), r.inv[a], r.org_inv_near[a]);
-      const VFloat far = PT_V(fmsub_ps)(PT_V(load_ps)(node.bounds[r.far[a]] + h), r.inv[a], r.org_inv_far[a]);
+      const VFloat far = PT_V(fmsub_ps)(PT_V(load_ps)(node.bounds[r.far[a]] + h), r.inv_far[a], r.org_inv_far[a]);
 #else
       const VFloat near = PT_V(mul_ps)(PT_V(sub_ps)(PT_V(load_ps)(node.bounds[r.near[a]] + h), r.org[a]), r.inv[a]);
-      const VFloat far = PT_V(mul_ps)(PT_V(sub_ps)(PT_V(load_ps)(node.bounds[r.far[a]] + h), r.org[a]), r.inv[a]);
+      const VFloat far = PT_V(mul_ps)(PT_V(sub_ps)(PT_V(load_ps)(node.bounds[r.far[a]] + h), r.org[a]), r.inv_far[a]);
 #endif
       t0 = PT_V(max_ps)(near, t0);  // max/min return the second operand when the first is NaN
       t1 = PT_V(min_ps)(far, t1);
     }
-    t1 = PT_V(mul_ps)(t1, PT_V(set1_ps)(kRobust));
     PT_V(storeu_ps)(tnear + h, t0);
 #if defined(__AVX__)
     mask |= uint32_t(_mm256_movemask_ps(_mm256_cmp_ps(t0, t1, _CMP_LE_OQ))) << h;
@@ -110,10 +109,25 @@ PT_INLINE void prefetch_child(const Bvh8& bvh, ChildRef ref) {
 
 /// The watertight test of triangle.h on the 4 lanes of a block, with the same operations in the same order, so
 /// each lane's result equals intersect_triangle's bit for bit. Returns the mask of lanes hit; fills t, b1, b2.
-PT_INLINE int tri4_test(const Tri4& blk, const WatertightRay& w, float tmax, __m128& t_out, __m128& e1_out,
+/// The per-ray values of the watertight test, broadcast once per ray (as SimdNodeRay): the leaf test then starts
+/// with its loads.
+struct SimdWatertightRay {
+  const WatertightRay& w;
+  __m128 ox, oy, oz, sx, sy, sz;
+  explicit SimdWatertightRay(const WatertightRay& r)
+      : w(r),
+        ox(_mm_set1_ps(r.org[r.kx])),
+        oy(_mm_set1_ps(r.org[r.ky])),
+        oz(_mm_set1_ps(r.org[r.kz])),
+        sx(_mm_set1_ps(r.sx)),
+        sy(_mm_set1_ps(r.sy)),
+        sz(_mm_set1_ps(r.sz)) {}
+};
+
+PT_INLINE int tri4_test(const Tri4& blk, const SimdWatertightRay& sw, float tmax, __m128& t_out, __m128& e1_out,
                      __m128& e2_out, __m128& inv_det_out) {
-  const __m128 ox = _mm_set1_ps(w.org[w.kx]), oy = _mm_set1_ps(w.org[w.ky]), oz = _mm_set1_ps(w.org[w.kz]);
-  const __m128 sx = _mm_set1_ps(w.sx), sy = _mm_set1_ps(w.sy), sz = _mm_set1_ps(w.sz);
+  const WatertightRay& w = sw.w;
+  const __m128 ox = sw.ox, oy = sw.oy, oz = sw.oz, sx = sw.sx, sy = sw.sy, sz = sw.sz;
   __m128 az = _mm_sub_ps(_mm_load_ps(blk.v[0][w.kz]), oz);
   __m128 bz = _mm_sub_ps(_mm_load_ps(blk.v[1][w.kz]), oz);
   __m128 cz = _mm_sub_ps(_mm_load_ps(blk.v[2][w.kz]), oz);
@@ -210,7 +224,7 @@ PT_INLINE int tri4_test(const Tri4& blk, const WatertightRay& w, float tmax, __m
   return mask;
 }
 
-PT_INLINE Tri4Hit closest_in_block(const Tri4& blk, const WatertightRay& w, float tmax) {
+PT_INLINE Tri4Hit closest_in_block(const Tri4& blk, const SimdWatertightRay& w, float tmax) {
   __m128 t, e1, e2, inv_det;
   const int mask = tri4_test(blk, w, tmax, t, e1, e2, inv_det);
   Tri4Hit hit;
@@ -234,7 +248,8 @@ template <bool kAnyHit>
 bool traverse(const Bvh8& bvh, Ray& ray, uint32_t* prim, float* b1, float* b2) {
   if (bvh.empty()) return false;
   const SimdNodeRay nr(make_node_ray(ray));
-  const WatertightRay wr = make_watertight_ray(ray);
+  const WatertightRay w = make_watertight_ray(ray);
+  const SimdWatertightRay wr(w);
   struct Entry {
     ChildRef ref;
     float t;
@@ -242,12 +257,16 @@ bool traverse(const Bvh8& bvh, Ray& ray, uint32_t* prim, float* b1, float* b2) {
   Entry stack[7 * kBvhMaxDepth + 8];
   int top = 0;
   bool found = false;
+  // The closest hit so far lives in locals: written through the pointers, which may alias ray.tmax, the compiler
+  // would reload tmax after every hit. pop_tmax is the bound popped entries are checked against.
+  float tmax = ray.tmax, pop_tmax = tmax * kRobust, hit_b1 = 0.0f, hit_b2 = 0.0f;
+  uint32_t hit_prim = 0;
   ChildRef cur = 0;
   for (;;) {
     while (!is_leaf_ref(cur)) {
       const Bvh8Node& node = bvh.node(cur);
       alignas(32) float tnear[8];
-      uint32_t mask = node_test_simd(node, nr, ray.tmax, tnear);
+      uint32_t mask = node_test_simd(node, nr, tmax, tnear);
       if (mask == 0) goto pop;
       int first = std::countr_zero(mask);
       mask &= mask - 1;
@@ -304,14 +323,15 @@ bool traverse(const Bvh8& bvh, Ray& ray, uint32_t* prim, float* b1, float* b2) {
         const Tri4& blk = bvh.block(k);
         if constexpr (kAnyHit) {
           __m128 t, e1, e2, inv_det;
-          if (tri4_test(blk, wr, ray.tmax, t, e1, e2, inv_det)) return true;
+          if (tri4_test(blk, wr, tmax, t, e1, e2, inv_det)) return true;
         } else {
-          const Tri4Hit h = closest_in_block(blk, wr, ray.tmax);
+          const Tri4Hit h = closest_in_block(blk, wr, tmax);
           if (h.lane >= 0) {
-            ray.tmax = h.t;
-            *prim = blk.prim[h.lane];
-            *b1 = h.b1;
-            *b2 = h.b2;
+            tmax = h.t;
+            pop_tmax = tmax * kRobust;
+            hit_prim = blk.prim[h.lane];
+            hit_b1 = h.b1;
+            hit_b2 = h.b2;
             found = true;
           }
         }
@@ -319,9 +339,14 @@ bool traverse(const Bvh8& bvh, Ray& ray, uint32_t* prim, float* b1, float* b2) {
     }
   pop:
     for (;;) {
-      if (top == 0) return found;
+      if (top == 0) {
+        if constexpr (!kAnyHit) {
+          if (found) ray.tmax = tmax, *prim = hit_prim, *b1 = hit_b1, *b2 = hit_b2;
+        }
+        return found;
+      }
       const Entry e = stack[--top];
-      if (kAnyHit || e.t <= ray.tmax * kRobust) {  // tnear may be rounded up a little
+      if (kAnyHit || e.t <= pop_tmax) {  // tnear may be rounded up a little
         cur = e.ref;
         break;
       }
@@ -340,11 +365,11 @@ uint32_t intersect_node8(const Bvh8Node& node, const NodeRay& ray, float tmax, f
 const char* bvh8_simd_name() { return kSimdName; }
 
 Tri4Hit intersect_tri4(const Tri4& block, const WatertightRay& ray, float tmax) {
-  return closest_in_block(block, ray, tmax);
+  return closest_in_block(block, SimdWatertightRay(ray), tmax);
 }
 bool occluded_tri4(const Tri4& block, const WatertightRay& ray, float tmax) {
   __m128 t, e1, e2, inv_det;
-  return tri4_test(block, ray, tmax, t, e1, e2, inv_det) != 0;
+  return tri4_test(block, SimdWatertightRay(ray), tmax, t, e1, e2, inv_det) != 0;
 }
 
 bool intersect_bvh8(const Bvh8& bvh, Ray& ray, uint32_t& prim, float& b1, float& b2) {
