@@ -10,7 +10,8 @@
 
 namespace pt {
 
-/// How a light point is sampled. solid_angle: spherical rectangles wherever they are usable; area: uniform by area;
+/// How a light point is sampled. solid_angle: spherical rectangles, parallelograms (two spherical triangles) and
+/// triangles wherever they are usable; area: uniform by area;
 /// automatic (the default): solid angle only where area sampling's density is far enough from it for the better
 /// distribution to pay for its cost, else area (kAutoMinSpread below; integrator.cpp vertex_light_sampling).
 enum class LightSampling : int { area = 0, solid_angle = 1, automatic = 2 };
@@ -25,7 +26,7 @@ struct Light {
   vec3 n{0.0f, 0.0f, 1.0f};
   float radius = 0.0f;
   float area = 0.0f;
-  bool rectangular = false;  ///< rect with orthogonal edges: solid-angle sampling applies
+  bool rectangular = false;  ///< rect with orthogonal edges: a spherical rectangle (else two spherical triangles)
   vec2 inv_len2{0.0f};       ///< rectangular: 1 / |e1|^2, 1 / |e2|^2 (for LightSampling::automatic's test)
   RectangleFrame rect_frame;  ///< rectangular: what spherical rectangles need of the light, computed once
   vec3 emission{0.0f};
