@@ -187,6 +187,8 @@ struct Reference {
   double noise = 0.0;
 };
 
+/// Mean over pixels and channels of (a - b)^2 / 4 / (r^2 + 0.01): for two independent renders a and b of equal
+/// samples, the variance of their mean in rel_mse units (reference r).
 double reference_noise(const Image& a, const Image& b, const Image& r) {
   double sum = 0.0;
   for (size_t i = 0; i < r.rgb.size(); ++i) {
@@ -255,13 +257,8 @@ void validate_estimator(const std::vector<std::pair<std::string, Reference>>& re
           img[seed % 2] = film.resolve();
           rel += (compare_images(img[seed % 2], ref).rel_mse - refs[i].second.noise) / seeds;
           est += est_rel_mse(film) / seeds;
-          if (seed % 2 == 0) continue;
-          double sum = 0;
-          for (size_t k = 0; k < ref.rgb.size(); ++k) {
-            double d = double(img[0].rgb[k]) - img[1].rgb[k], r = ref.rgb[k];
-            sum += d * d / (r * r + 0.01);
-          }
-          pair += sum / (2.0 * double(ref.rgb.size())) / (seeds / 2);
+          // Half the mean squared difference of the pair is twice the variance of their mean.
+          if (seed % 2 == 1) pair += 2.0 * reference_noise(img[0], img[1], ref) / (seeds / 2);
         }
         csv << scenes[i].first << "," << sampler_name << "," << spp << "," << ref_spp << "," << rel << "," << est
             << "," << pair << "," << est / rel << "\n";
@@ -356,7 +353,6 @@ Result<Scene> make_cornell36_scene() {
   return s;
 }
 
-
 /// Sobol's cost against independent numbers, with the defaults: frames of 1 spp rendered alternately with each
 /// sampler (the order swapped every frame), so a change in the machine's load hits both alike; prints the spp/s
 /// ratio Sobol / independent (issue 11, target 3).
@@ -379,8 +375,6 @@ void sampler_cost(const std::string& name, const RenderScene& rs, int size, int 
   std::printf("%-20s sampler cost, %d frames of %dx%d: independent %.1f spp/s, sobol %.1f spp/s, ratio %.3f\n",
               name.c_str(), frames, size, size, frames / seconds[0], frames / seconds[1], seconds[0] / seconds[1]);
 }
-
-/// Mean over pixels and channels of (a - b)^2 / 4 / (r^2 + 0.01): the reference noise in rel_mse units.
 
 int main(int argc, char** argv) {
   int size = 128, max_spp = 256, ref_spp = 4096, max_depth = 64, threads = 0;

@@ -36,6 +36,11 @@ inline int max_dimension(vec3 v) { return v.x > v.y ? (v.x > v.z ? 0 : 2) : (v.y
 inline float luminance(vec3 c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
 inline bool is_finite(vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 inline bool is_black(vec3 v) { return v.x == 0.0f && v.y == 0.0f && v.z == 0.0f; }
+/// Whether two edges meet at a right angle, to a relative 1e-5 (a quad light that passes is a rectangle: spherical
+/// rectangle sampling in render/light.cpp, "rectangle" in the Light panel).
+inline bool at_right_angle(vec3 a, vec3 b) {
+  return std::abs(glm::dot(a, b)) <= 1e-5f * glm::length(a) * glm::length(b);
+}
 template <class T> inline T sqr(T x) { return x * x; }
 /// sqrt that returns 0 for the tiny negative arguments rounding produces.
 inline float safe_sqrt(float x) { return std::sqrt(std::max(0.0f, x)); }

@@ -16,7 +16,7 @@ Light make_rect_light(vec3 corner, vec3 edge1, vec3 edge2, vec3 emission) {
   l.area = glm::length(c);
   l.n = l.area > 0.0f ? c / l.area : vec3(0, 0, 1);
   float l1 = glm::length(edge1), l2 = glm::length(edge2);
-  l.rectangular = l.area > 0.0f && std::abs(glm::dot(edge1, edge2)) <= 1e-5f * l1 * l2;
+  l.rectangular = l.area > 0.0f && at_right_angle(edge1, edge2);
   if (l.rectangular) {
     l.inv_len2 = vec2(1.0f / (l1 * l1), 1.0f / (l2 * l2));
     l.rectangular = make_rectangle_frame(corner, edge1, edge2, l.rect_frame);

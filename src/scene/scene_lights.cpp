@@ -1,7 +1,6 @@
 #include "scene/scene_lights.h"
 
 #include <algorithm>
-#include <cmath>
 #include <cstdio>
 #include <map>
 #include <numeric>
@@ -202,10 +201,8 @@ std::string light_label(const Scene& scene, const SceneLight& light) {
     std::snprintf(buf, sizeof buf, "%s (sphere r %.3g)", name.c_str(), 0.5f * pl.size.x);
   else if (light.kind == SceneLightKind::quad) {
     const auto& q = scene.quads[light.shape];
-    const float cos_angle = glm::dot(q.edge1, q.edge2) / (glm::length(q.edge1) * glm::length(q.edge2));
-    const bool right_angle = std::abs(cos_angle) <= 1e-5f;  // the test make_rect_light uses
-    std::snprintf(buf, sizeof buf, "%s (%s %.3g x %.3g)", name.c_str(), right_angle ? "rectangle" : "parallelogram",
-                  pl.size.x, pl.size.y);
+    std::snprintf(buf, sizeof buf, "%s (%s %.3g x %.3g)", name.c_str(),
+                  at_right_angle(q.edge1, q.edge2) ? "rectangle" : "parallelogram", pl.size.x, pl.size.y);
   }
   else
     std::snprintf(buf, sizeof buf, "%s (%zu triangles %.3g x %.3g)", name.c_str(), light.triangles.size(), pl.size.x,
