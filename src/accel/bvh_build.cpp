@@ -81,7 +81,8 @@ static_assert(sizeof(PrimRef) == 32 && std::is_trivially_default_constructible_v
 /// Bounds of a set of references and of their centroids.
 struct RangeBounds {
   Box4 box, centroids;
-  void extend(const PrimRef& r) { box.extend(r.lo, r.hi); centroids.extend_point(r.center2()); }
+  void extend(const PrimRef& r) { extend(r, r.center2()); }
+  void extend(const PrimRef& r, __m128 center2) { box.extend(r.lo, r.hi); centroids.extend_point(center2); }
   void extend(const RangeBounds& o) { box.extend(o.box); centroids.extend(o.centroids); }
 };
 
@@ -129,14 +130,10 @@ struct Builder {
   struct Binning {
     __m128 lo, scale;
     int bins;
-    __m128i index(const PrimRef& r) const {
-      const __m128 f = _mm_mul_ps(_mm_sub_ps(r.center2(), lo), scale);  // clamped before the conversion; NaN -> 0
+    __m128i index(const PrimRef& r) const { return index_of(r.center2()); }
+    __m128i index_of(__m128 center2) const {
+      const __m128 f = _mm_mul_ps(_mm_sub_ps(center2, lo), scale);  // clamped before the conversion; NaN -> 0
       return _mm_cvttps_epi32(_mm_min_ps(_mm_max_ps(f, _mm_setzero_ps()), _mm_set1_ps(float(bins - 1))));
-    }
-    int index(const PrimRef& r, int axis) const {
-      alignas(16) int32_t b[4];
-      _mm_store_si128(reinterpret_cast<__m128i*>(b), index(r));
-      return b[axis];
     }
   };
 
@@ -149,44 +146,120 @@ struct Builder {
     return {t.bounds.centroids.lo, scale, bins};
   }
 
-  Split find_split(const Task& t, const Binning& binning, Bin (*bins)[kMaxBins]) const {
-    const int n_bins = binning.bins;
-    for (int a = 0; a < 3; ++a)
-      for (int b = 0; b < n_bins; ++b) bins[a][b] = Bin{};
-    for (uint32_t i = t.begin; i < t.end; ++i) {
-      const PrimRef& r = refs[i];
-      alignas(16) int32_t idx[4];
-      _mm_store_si128(reinterpret_cast<__m128i*>(idx), binning.index(r));
-      for (int a = 0; a < 3; ++a) {
-        Bin& b = bins[a][idx[a]];
-        b.box.extend(r.lo, r.hi);
-        b.count++;
-      }
-    }
-    Split best;
-    const uint32_t count = t.end - t.begin;
-    alignas(16) float extent[4];
-    _mm_store_ps(extent, _mm_sub_ps(t.bounds.centroids.hi, t.bounds.centroids.lo));
+  /// Bins of one set, per axis.
+  using BinSet = Bin[3][kMaxBins];
+  /// A thread's binning scratch: two sets of bins, filled by alternate references and merged before the sweep. Why
+  /// two: after the first partitions, consecutive references mostly fall in the same bins, and with one set each
+  /// reference's min, max and count updates wait for the previous reference's stores to be read back (a chain of
+  /// store forwarding and a min/max per axis, the hottest instructions of the build in perf); alternate sets halve
+  /// that chain. Small nodes use one set: merging 3 x bins would cost more than it saves.
+  struct BinScratch {
+    BinSet set[2];
+  };
+  static constexpr uint32_t kTwoSetMinPrims = 128;
+
+  void bin_ref(BinSet& bins, const Binning& binning, const PrimRef& r) const {
+    alignas(16) int32_t idx[4];
+    _mm_store_si128(reinterpret_cast<__m128i*>(idx), binning.index(r));
     for (int a = 0; a < 3; ++a) {
-      if (!(extent[a] > 0.0f)) continue;
-      // Sweep from the right to get the cost of every right side, then from the left.
-      float right_cost[kMaxBins];
-      Box4 acc;
-      uint32_t n = 0;
-      for (int b = n_bins - 1; b > 0; --b) {
-        acc.extend(bins[a][b].box);
-        n += bins[a][b].count;
-        right_cost[b - 1] = acc.half_area() * blocks(n);
-      }
-      acc = Box4{};
-      n = 0;
-      for (int b = 0; b < n_bins - 1; ++b) {
-        acc.extend(bins[a][b].box);
-        n += bins[a][b].count;
-        const float cost = acc.half_area() * blocks(n) + right_cost[b];
-        if (n > 0 && n < count && cost < best.cost) best = {a, b, cost};
+      Bin& b = bins[a][idx[a]];
+      b.box.extend(r.lo, r.hi);
+      b.count++;
+    }
+  }
+
+  Split find_split(const Task& t, const Binning& binning, BinScratch& scratch) const {
+    const int n_bins = binning.bins;
+    const uint32_t count = t.end - t.begin;
+    const bool two = count >= kTwoSetMinPrims;
+    BinSet& bins = scratch.set[0];
+    for (int s = 0; s < (two ? 2 : 1); ++s)
+      for (int a = 0; a < 3; ++a)
+        for (int b = 0; b < n_bins; ++b) scratch.set[s][a][b] = Bin{};
+    uint32_t i = t.begin;
+    if (two) {
+      for (; i + 1 < t.end; i += 2) {
+        bin_ref(scratch.set[0], binning, refs[i]);
+        bin_ref(scratch.set[1], binning, refs[i + 1]);
       }
     }
+    for (; i < t.end; ++i) bin_ref(bins, binning, refs[i]);
+    if (two) {
+      for (int a = 0; a < 3; ++a)
+        for (int b = 0; b < n_bins; ++b) {
+          bins[a][b].box.extend(scratch.set[1][a][b].box);
+          bins[a][b].count += scratch.set[1][a][b].count;
+        }
+    }
+    return sweep(bins, n_bins, count, _mm_sub_ps(t.bounds.centroids.hi, t.bounds.centroids.lo));
+  }
+
+  /// Half the surface area of three boxes at once, one per lane (the w lane is 0): the extents are transposed so
+  /// that lane a holds box a's x, y and z extents in three registers. Empty boxes (hi < lo) have area 0.
+  static __m128 half_areas(const Box4& x, const Box4& y, const Box4& z) {
+    __m128 ex = _mm_max_ps(_mm_sub_ps(x.hi, x.lo), _mm_setzero_ps());
+    __m128 ey = _mm_max_ps(_mm_sub_ps(y.hi, y.lo), _mm_setzero_ps());
+    __m128 ez = _mm_max_ps(_mm_sub_ps(z.hi, z.lo), _mm_setzero_ps());
+    __m128 ew = _mm_setzero_ps();
+    _MM_TRANSPOSE4_PS(ex, ey, ez, ew);  // now ex = the three boxes' x extents, ey their y, ez their z
+    return _mm_add_ps(_mm_add_ps(_mm_mul_ps(ex, ey), _mm_mul_ps(ey, ez)), _mm_mul_ps(ez, ex));
+  }
+
+  /// blocks() of four counts.
+  __m128 blocks4(__m128i n) const {
+    if (block_mask || options.leaf_block_size <= 1) {
+      const __m128i mask = _mm_set1_epi32(int(block_mask));
+      return _mm_cvtepi32_ps(_mm_andnot_si128(mask, _mm_add_epi32(n, mask)));
+    }
+    alignas(16) uint32_t c[4];
+    _mm_store_si128(reinterpret_cast<__m128i*>(c), n);
+    return _mm_setr_ps(blocks(c[0]), blocks(c[1]), blocks(c[2]), blocks(c[3]));
+  }
+
+  /// The SAH sweep over the bins of the three axes at once, one axis per SSE lane (as Embree's BinInfo::best):
+  /// from the right to get the cost of every right side, then from the left. A split needs primitives on both
+  /// sides and an axis whose centroid extent is positive. Ties go to the lowest bin, then the lowest axis.
+  Split sweep(const BinSet& bins, int n_bins, uint32_t count, __m128 centroid_extent) const {
+    auto counts = [&](int b) {
+      return _mm_setr_epi32(int(bins[0][b].count), int(bins[1][b].count), int(bins[2][b].count), 0);
+    };
+    alignas(16) __m128 right_cost[kMaxBins];
+    Box4 ax, ay, az;
+    __m128i n = _mm_setzero_si128();
+    for (int b = n_bins - 1; b > 0; --b) {
+      ax.extend(bins[0][b].box);
+      ay.extend(bins[1][b].box);
+      az.extend(bins[2][b].box);
+      n = _mm_add_epi32(n, counts(b));
+      right_cost[b - 1] = _mm_mul_ps(half_areas(ax, ay, az), blocks4(n));
+    }
+    ax = ay = az = Box4{};
+    n = _mm_setzero_si128();
+    const __m128i total = _mm_set1_epi32(int(count));
+    const __m128i axes = _mm_castps_si128(_mm_cmpgt_ps(centroid_extent, _mm_setzero_ps()));
+    const __m128i xyz = _mm_setr_epi32(-1, -1, -1, 0);
+    __m128 best_cost = _mm_set1_ps(kInfinity);
+    __m128i best_bin = _mm_setzero_si128();
+    for (int b = 0; b < n_bins - 1; ++b) {
+      ax.extend(bins[0][b].box);
+      ay.extend(bins[1][b].box);
+      az.extend(bins[2][b].box);
+      n = _mm_add_epi32(n, counts(b));
+      const __m128 cost = _mm_add_ps(_mm_mul_ps(half_areas(ax, ay, az), blocks4(n)), right_cost[b]);
+      // 0 < n < count (counts are far below 2^31, so signed compares are exact)
+      const __m128i usable = _mm_and_si128(_mm_and_si128(axes, xyz), _mm_andnot_si128(_mm_cmpeq_epi32(n, _mm_setzero_si128()), _mm_cmplt_epi32(n, total)));
+      const __m128 better = _mm_and_ps(_mm_castsi128_ps(usable), _mm_cmplt_ps(cost, best_cost));
+      best_cost = _mm_or_ps(_mm_and_ps(better, cost), _mm_andnot_ps(better, best_cost));  // SSE2 select
+      const __m128i take = _mm_castps_si128(better);
+      best_bin = _mm_or_si128(_mm_and_si128(take, _mm_set1_epi32(b)), _mm_andnot_si128(take, best_bin));
+    }
+    alignas(16) float c[4];
+    alignas(16) int32_t bin[4];
+    _mm_store_ps(c, best_cost);
+    _mm_store_si128(reinterpret_cast<__m128i*>(bin), best_bin);
+    Split best;
+    for (int a = 0; a < 3; ++a)
+      if (c[a] < best.cost) best = {a, bin[a], c[a]};
     return best;
   }
 
@@ -197,7 +270,7 @@ struct Builder {
   }
 
   /// Splits a task in two, or returns false to make it a leaf.
-  bool split(const Task& t, Task& left, Task& right, Bin (*bins)[kMaxBins]) const {
+  bool split(const Task& t, Task& left, Task& right, BinScratch& bins) const {
     const uint32_t count = t.end - t.begin;
     if (count == 1) return false;
     Split s;
@@ -211,9 +284,24 @@ struct Builder {
       const int a = s.axis;
       RangeBounds lb, rb;
       uint32_t i = t.begin, j = t.end;
+      // The side test compares all three bin indices with the split bin and reads the axis' bit of the mask: a
+      // lane picked by a run-time axis went through the stack, the partition's hottest instructions in perf.
+      const __m128i split_bin = _mm_set1_epi32(s.bin);
+      const int axis_bit = 1 << a;
+      auto right_side = [&](__m128 center2) {
+        return _mm_movemask_ps(_mm_castsi128_ps(_mm_cmpgt_epi32(binning.index_of(center2), split_bin))) & axis_bit;
+      };
       for (;;) {
-        while (i < j && binning.index(refs[i], a) <= s.bin) lb.extend(refs[i++]);
-        while (i < j && binning.index(refs[j - 1], a) > s.bin) rb.extend(refs[--j]);
+        for (; i < j; ++i) {
+          const __m128 c = refs[i].center2();
+          if (right_side(c)) break;
+          lb.extend(refs[i], c);
+        }
+        for (; i < j; --j) {
+          const __m128 c = refs[j - 1].center2();
+          if (!right_side(c)) break;
+          rb.extend(refs[j - 1], c);
+        }
         if (i == j) break;
         std::swap(refs[i], refs[j - 1]);
       }
@@ -268,7 +356,7 @@ struct Builder {
 
   /// Takes jobs until all are done (the main thread and the helper threads alike).
   void work(uint32_t arena) {
-    Bin bins[3][kMaxBins];  // scratch, reused by every node this thread splits
+    BinScratch bins;  // reused by every node this thread splits
     int local_depth = 0;
     for (;;) {
       Job* job;
@@ -292,7 +380,7 @@ struct Builder {
   }
 
   /// Builds the subtree of job.task into job.nodes; children of kMinParallelPrims or more become new jobs.
-  void run(Job& job, uint32_t arena, Bin (*bins)[kMaxBins], int& local_depth) {
+  void run(Job& job, uint32_t arena, BinScratch& bins, int& local_depth) {
     HugeVector<BvhNode>& all = arenas[arena];
     job.arena = arena;
     job.offset = all.size();
