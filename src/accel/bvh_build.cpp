@@ -146,51 +146,21 @@ struct Builder {
     return {t.bounds.centroids.lo, scale, bins};
   }
 
-  /// Bins of one set, per axis.
-  using BinSet = Bin[3][kMaxBins];
-  /// A thread's binning scratch: two sets of bins, filled by alternate references and merged before the sweep. Why
-  /// two: after the first partitions, consecutive references mostly fall in the same bins, and with one set each
-  /// reference's min, max and count updates wait for the previous reference's stores to be read back (a chain of
-  /// store forwarding and a min/max per axis, the hottest instructions of the build in perf); alternate sets halve
-  /// that chain. Small nodes use one set: merging 3 x bins would cost more than it saves.
-  struct BinScratch {
-    BinSet set[2];
-  };
-  static constexpr uint32_t kTwoSetMinPrims = 128;
-
-  void bin_ref(BinSet& bins, const Binning& binning, const PrimRef& r) const {
-    alignas(16) int32_t idx[4];
-    _mm_store_si128(reinterpret_cast<__m128i*>(idx), binning.index(r));
-    for (int a = 0; a < 3; ++a) {
-      Bin& b = bins[a][idx[a]];
-      b.box.extend(r.lo, r.hi);
-      b.count++;
-    }
-  }
-
-  Split find_split(const Task& t, const Binning& binning, BinScratch& scratch) const {
+  Split find_split(const Task& t, const Binning& binning, Bin (*bins)[kMaxBins]) const {
     const int n_bins = binning.bins;
-    const uint32_t count = t.end - t.begin;
-    const bool two = count >= kTwoSetMinPrims;
-    BinSet& bins = scratch.set[0];
-    for (int s = 0; s < (two ? 2 : 1); ++s)
-      for (int a = 0; a < 3; ++a)
-        for (int b = 0; b < n_bins; ++b) scratch.set[s][a][b] = Bin{};
-    uint32_t i = t.begin;
-    if (two) {
-      for (; i + 1 < t.end; i += 2) {
-        bin_ref(scratch.set[0], binning, refs[i]);
-        bin_ref(scratch.set[1], binning, refs[i + 1]);
+    for (int a = 0; a < 3; ++a)
+      for (int b = 0; b < n_bins; ++b) bins[a][b] = Bin{};
+    for (uint32_t i = t.begin; i < t.end; ++i) {
+      const PrimRef& r = refs[i];
+      alignas(16) int32_t idx[4];
+      _mm_store_si128(reinterpret_cast<__m128i*>(idx), binning.index(r));
+      for (int a = 0; a < 3; ++a) {
+        Bin& b = bins[a][idx[a]];
+        b.box.extend(r.lo, r.hi);
+        b.count++;
       }
     }
-    for (; i < t.end; ++i) bin_ref(bins, binning, refs[i]);
-    if (two) {
-      for (int a = 0; a < 3; ++a)
-        for (int b = 0; b < n_bins; ++b) {
-          bins[a][b].box.extend(scratch.set[1][a][b].box);
-          bins[a][b].count += scratch.set[1][a][b].count;
-        }
-    }
+    const uint32_t count = t.end - t.begin;
     return sweep(bins, n_bins, count, _mm_sub_ps(t.bounds.centroids.hi, t.bounds.centroids.lo));
   }
 
@@ -219,7 +189,7 @@ struct Builder {
   /// The SAH sweep over the bins of the three axes at once, one axis per SSE lane (as Embree's BinInfo::best):
   /// from the right to get the cost of every right side, then from the left. A split needs primitives on both
   /// sides and an axis whose centroid extent is positive. Ties go to the lowest bin, then the lowest axis.
-  Split sweep(const BinSet& bins, int n_bins, uint32_t count, __m128 centroid_extent) const {
+  Split sweep(const Bin (*bins)[kMaxBins], int n_bins, uint32_t count, __m128 centroid_extent) const {
     auto counts = [&](int b) {
       return _mm_setr_epi32(int(bins[0][b].count), int(bins[1][b].count), int(bins[2][b].count), 0);
     };
@@ -270,7 +240,7 @@ struct Builder {
   }
 
   /// Splits a task in two, or returns false to make it a leaf.
-  bool split(const Task& t, Task& left, Task& right, BinScratch& bins) const {
+  bool split(const Task& t, Task& left, Task& right, Bin (*bins)[kMaxBins]) const {
     const uint32_t count = t.end - t.begin;
     if (count == 1) return false;
     Split s;
@@ -356,7 +326,7 @@ struct Builder {
 
   /// Takes jobs until all are done (the main thread and the helper threads alike).
   void work(uint32_t arena) {
-    BinScratch bins;  // reused by every node this thread splits
+    Bin bins[3][kMaxBins];  // scratch, reused by every node this thread splits
     int local_depth = 0;
     for (;;) {
       Job* job;
@@ -380,7 +350,7 @@ struct Builder {
   }
 
   /// Builds the subtree of job.task into job.nodes; children of kMinParallelPrims or more become new jobs.
-  void run(Job& job, uint32_t arena, BinScratch& bins, int& local_depth) {
+  void run(Job& job, uint32_t arena, Bin (*bins)[kMaxBins], int& local_depth) {
     HugeVector<BvhNode>& all = arenas[arena];
     job.arena = arena;
     job.offset = all.size();
