@@ -12,6 +12,23 @@
 
 namespace pt {
 
+/// Freed huge-page blocks kept for the next allocation of about the same size. Why: every BVH build allocates and
+/// frees some 10-30 MB of temporaries (references, node arenas, the collapse plan) and its output, and memory
+/// returned to the kernel comes back as fresh pages that the kernel must zero, and on this project's VMs the host
+/// too (free-page reporting hands freed guest pages back to the host): a fifth of a bunny build's time went to
+/// clear_page in perf. A viewer rebuilds its tree on every mesh load or edit, and a script builds many. Blocks are
+/// whole huge pages and are reused for requests of exactly their size (a rebuild asks for the same sizes again), so
+/// nothing is wasted; the cache holds at most kMaxBytes and drops its oldest blocks beyond that.
+namespace huge_block_cache {
+inline constexpr size_t kMaxBytes = size_t(256) << 20;
+/// A cached block of exactly `bytes` (a multiple of the huge page), removed from the cache, or nullptr.
+void* take(size_t bytes);
+/// Keeps the block of `bytes` (as allocated), freeing the oldest blocks beyond kMaxBytes.
+void give(void* p, size_t bytes);
+/// Bytes held now (for tests).
+size_t held_bytes();
+}  // namespace huge_block_cache
+
 template <class T>
 struct HugePageAllocator {
   using value_type = T;
@@ -28,6 +45,8 @@ struct HugePageAllocator {
     const size_t bytes = n * sizeof(T);
     const size_t align = bytes >= kHugeThreshold ? kHugePage : 64;
     const size_t rounded = (bytes + align - 1) / align * align;
+    if (align == kHugePage)
+      if (void* cached = huge_block_cache::take(rounded)) return static_cast<T*>(cached);
     void* p = std::aligned_alloc(align, rounded == 0 ? align : rounded);
     if (!p) throw std::bad_alloc();
 #ifdef MADV_HUGEPAGE
@@ -35,7 +54,12 @@ struct HugePageAllocator {
 #endif
     return static_cast<T*>(p);
   }
-  void deallocate(T* p, size_t) noexcept { std::free(p); }
+  /// Huge blocks go to the cache, with the size allocate gave them.
+  void deallocate(T* p, size_t n) noexcept {
+    const size_t bytes = n * sizeof(T);
+    if (bytes >= kHugeThreshold) huge_block_cache::give(p, (bytes + kHugePage - 1) / kHugePage * kHugePage);
+    else std::free(p);
+  }
 
   template <class U>
   bool operator==(const HugePageAllocator<U>&) const noexcept { return true; }
