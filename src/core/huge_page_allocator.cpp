@@ -61,4 +61,15 @@ size_t held_bytes() {
   return c.bytes;
 }
 
+void release_all() {
+  std::deque<std::pair<void*, size_t>> all;
+  {
+    Cache& c = cache();
+    std::lock_guard<std::mutex> lock(c.mutex);
+    all.swap(c.blocks);
+    c.bytes = 0;
+  }
+  for (auto& [p, bytes] : all) std::free(p);
+}
+
 }  // namespace pt::huge_block_cache
