@@ -27,6 +27,8 @@ constexpr int kMaxBins = 64;
 constexpr int kSahDepthLimit = kBvhMaxDepth - 32;
 /// Subtrees of at least this many primitives are built as jobs of their own, which any build thread may take.
 constexpr uint32_t kMinParallelPrims = 4096;
+/// A root of at least this many primitives is split by all build threads together (Builder::split_root).
+constexpr uint32_t kMinChunkedRootPrims = 4 * kMinParallelPrims;
 
 /// A box as two SSE registers (the w lanes are ignored): one min and one max per extend.
 struct Box4 {
@@ -104,6 +106,7 @@ struct Builder {
   uint32_t max_leaf;
   uint32_t block_mask;  ///< leaf block size - 1 when that is a power of two (as it always is), else 0
   std::atomic<int> depth{0};
+  int threads = 1;  ///< build threads (set by build)
 
   Builder(std::span<PrimRef> r, const BvhBuildOptions& o)
       : refs(r), options(o), max_bins(std::clamp(o.bins, 2, kMaxBins)), max_leaf(uint32_t(std::max(1, o.max_leaf_size))) {
@@ -146,11 +149,11 @@ struct Builder {
     return {t.bounds.centroids.lo, scale, bins};
   }
 
-  Split find_split(const Task& t, const Binning& binning, Bin (*bins)[kMaxBins]) const {
-    const int n_bins = binning.bins;
+  /// Clears the bins, then bins the references [begin, end) on all three axes.
+  void bin_range(uint32_t begin, uint32_t end, const Binning& binning, Bin (*bins)[kMaxBins]) const {
     for (int a = 0; a < 3; ++a)
-      for (int b = 0; b < n_bins; ++b) bins[a][b] = Bin{};
-    for (uint32_t i = t.begin; i < t.end; ++i) {
+      for (int b = 0; b < binning.bins; ++b) bins[a][b] = Bin{};
+    for (uint32_t i = begin; i < end; ++i) {
       const PrimRef& r = refs[i];
       alignas(16) int32_t idx[4];
       _mm_store_si128(reinterpret_cast<__m128i*>(idx), binning.index(r));
@@ -160,6 +163,11 @@ struct Builder {
         b.count++;
       }
     }
+  }
+
+  Split find_split(const Task& t, const Binning& binning, Bin (*bins)[kMaxBins]) const {
+    const int n_bins = binning.bins;
+    bin_range(t.begin, t.end, binning, bins);
     const uint32_t count = t.end - t.begin;
     return sweep(bins, n_bins, count, _mm_sub_ps(t.bounds.centroids.hi, t.bounds.centroids.lo));
   }
@@ -294,6 +302,77 @@ struct Builder {
     return true;
   }
 
+  /// The root's split with the work inside the node shared by the build threads: at the top of the tree there is
+  /// one node and nothing else to run, and its binning and partition over every reference were the largest serial
+  /// part of a 2-thread build. The references are cut into contiguous chunks, each binned on its own (the merge is
+  /// exact: min, max and integer counts); the partition is stable and out of place (each chunk knows from its own
+  /// bins how many of its references go left, so it knows where to write them), then copied back. A stable
+  /// partition does not depend on the chunks, so the tree is the same for any thread count. Returns false where the
+  /// serial split must decide (no SAH split: the median fallback, or a leaf).
+  bool split_root(const Task& t, Task& left, Task& right) {
+    const uint32_t count = t.end - t.begin;
+    const Binning binning = make_binning(t);
+    const int chunks_max = std::min(threads, 64);
+    struct ChunkBins {
+      Bin bins[3][kMaxBins];
+    };
+    std::vector<ChunkBins> chunk_bins(static_cast<size_t>(chunks_max));
+    auto bins_of = [&](int c) { return chunk_bins[static_cast<size_t>(c)].bins; };
+    const int chunks = parallel_chunk_count(count, chunks_max, kMinParallelPrims);
+    parallel_chunks(count, chunks_max, kMinParallelPrims, [&](int c, size_t begin, size_t end) {
+      bin_range(t.begin + uint32_t(begin), t.begin + uint32_t(end), binning, bins_of(c));
+    });
+    Bin merged[3][kMaxBins];
+    for (int a = 0; a < 3; ++a)
+      for (int b = 0; b < binning.bins; ++b) {
+        merged[a][b] = Bin{};
+        for (int c = 0; c < chunks; ++c) {
+          merged[a][b].box.extend(bins_of(c)[a][b].box);
+          merged[a][b].count += bins_of(c)[a][b].count;
+        }
+      }
+    const Split s = sweep(merged, binning.bins, count, _mm_sub_ps(t.bounds.centroids.hi, t.bounds.centroids.lo));
+    if (s.axis < 0) return false;
+    // Where each chunk's references go: left ones from left_at[c], right ones from right_at[c].
+    std::vector<uint32_t> left_at(static_cast<size_t>(chunks)), right_at(static_cast<size_t>(chunks));
+    uint32_t n_left = 0;
+    for (int c = 0; c < chunks; ++c) {
+      left_at[size_t(c)] = n_left;
+      for (int b = 0; b <= s.bin; ++b) n_left += bins_of(c)[s.axis][b].count;
+    }
+    if (n_left == 0 || n_left == count) return false;
+    for (int c = 0, n_right = 0; c < chunks; ++c) {
+      right_at[size_t(c)] = n_left + uint32_t(n_right);
+      for (int b = s.bin + 1; b < binning.bins; ++b) n_right += int(bins_of(c)[s.axis][b].count);
+    }
+    struct Free {
+      size_t n;
+      void operator()(PrimRef* p) const { HugePageAllocator<PrimRef>().deallocate(p, n); }
+    };
+    const std::unique_ptr<PrimRef[], Free> spare(HugePageAllocator<PrimRef>().allocate(count), Free{count});
+    std::vector<RangeBounds> lb(static_cast<size_t>(chunks)), rb(static_cast<size_t>(chunks));
+    const __m128i split_bin = _mm_set1_epi32(s.bin);
+    const int axis_bit = 1 << s.axis;
+    parallel_chunks(count, chunks_max, kMinParallelPrims, [&](int c, size_t begin, size_t end) {
+      uint32_t l = left_at[size_t(c)], r = right_at[size_t(c)];
+      for (size_t i = t.begin + begin; i < t.begin + end; ++i) {
+        const __m128 center = refs[i].center2();
+        const bool right_side =
+            _mm_movemask_ps(_mm_castsi128_ps(_mm_cmpgt_epi32(binning.index_of(center), split_bin))) & axis_bit;
+        (right_side ? rb : lb)[size_t(c)].extend(refs[i], center);
+        spare[right_side ? r++ : l++] = refs[i];
+      }
+    });
+    parallel_chunks(count, chunks_max, kMinParallelPrims, [&](int, size_t begin, size_t end) {
+      std::copy(spare.get() + begin, spare.get() + end, refs.begin() + t.begin + begin);
+    });
+    RangeBounds lbox, rbox;
+    for (int c = 0; c < chunks; ++c) lbox.extend(lb[size_t(c)]), rbox.extend(rb[size_t(c)]);
+    left = {0, t.begin, t.begin + n_left, t.depth + 1, lbox};
+    right = {0, t.begin + n_left, t.end, t.depth + 1, rbox};
+    return true;
+  }
+
   /// A subtree built as one unit of work into its own node vector (its root is nodes[0]). Every child task of
   /// kMinParallelPrims or more primitives becomes a job of its own, whatever the thread count, so the jobs and
   /// therefore the final node order (stitch) are the same for any number of threads: the build is deterministic.
@@ -368,7 +447,8 @@ struct Builder {
       local_depth = std::max(local_depth, t.depth);
       nodes[t.node].bounds = t.bounds.box.aabb();
       Task children[2];
-      if (!split(t, children[0], children[1], bins)) {
+      const bool root_chunked = t.depth == 0 && t.end - t.begin >= kMinChunkedRootPrims;
+      if (!(root_chunked && split_root(t, children[0], children[1])) && !split(t, children[0], children[1], bins)) {
         nodes[t.node].first = t.begin;
         nodes[t.node].count = t.end - t.begin;
         continue;
@@ -411,7 +491,8 @@ struct Builder {
   }
 
   /// Builds the whole tree with `threads` threads (the caller's included) into `out`.
-  void build(const Task& root, int threads, HugeVector<BvhNode>& out) {
+  void build(const Task& root, int thread_count, HugeVector<BvhNode>& out) {
+    threads = thread_count;
     Job root_job;
     root_job.task = root;
     // A tree over n primitives has at most 2n - 1 nodes, so no arena reallocates (untouched capacity costs nothing).
