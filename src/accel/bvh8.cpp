@@ -5,6 +5,7 @@
 #include <immintrin.h>
 
 #include <algorithm>
+#include <atomic>
 #include <stdexcept>
 
 namespace pt {
@@ -57,9 +58,43 @@ struct CollapsePlan {
   };
   HugeVector<Entry> e;
 
-  explicit CollapsePlan(const Bvh& binary) : e(binary.nodes.size()) {
-    // Children come after their parent, so a reverse sweep sees children first.
-    for (size_t i = binary.nodes.size(); i-- > 0;) {
+  /// Subtrees rooted kParallelDepth levels below the root are planned by the build threads in parallel, each
+  /// children first, then the few nodes above them. Every entry is the same function of its children's entries,
+  /// so the plan does not depend on the thread count. (Serial, the plan was the largest serial part of the
+  /// collapse.)
+  static constexpr int kParallelDepth = 4;
+
+  CollapsePlan(const Bvh& binary, int threads) : e(binary.nodes.size()) {
+    std::vector<uint32_t> top, roots;  // top: the nodes above the subtrees, parents before children
+    std::vector<std::pair<uint32_t, int>> stack{{0u, 0}};
+    while (!stack.empty()) {
+      const auto [i, depth] = stack.back();
+      stack.pop_back();
+      if (depth == kParallelDepth || binary.nodes[i].is_leaf()) {
+        roots.push_back(i);
+        continue;
+      }
+      top.push_back(i);
+      stack.push_back({binary.nodes[i].first + 1, depth + 1});
+      stack.push_back({binary.nodes[i].first, depth + 1});
+    }
+    std::atomic<size_t> next{0};
+    parallel_chunks(size_t(threads), threads, 1, [&](int, size_t, size_t) {
+      std::vector<uint32_t> order;  // the subtree's nodes, parents before children
+      for (size_t k; (k = next.fetch_add(1)) < roots.size();) {
+        order.assign(1, roots[k]);
+        for (size_t m = 0; m < order.size(); ++m)
+          if (!binary.nodes[order[m]].is_leaf())
+            order.insert(order.end(), {binary.nodes[order[m]].first, binary.nodes[order[m]].first + 1});
+        for (size_t m = order.size(); m-- > 0;) plan_node(binary, order[m]);
+      }
+    });
+    for (size_t m = top.size(); m-- > 0;) plan_node(binary, top[m]);
+  }
+
+  /// Entry i from its children's entries (already planned).
+  void plan_node(const Bvh& binary, uint32_t i) {
+    {
       const BvhNode& n = binary.nodes[i];
       Entry& x = e[i];
       // Non-finite or overflowing boxes (primitives near 1e30, empty boxes of non-finite ones) must not make every
@@ -236,7 +271,7 @@ Bvh8 make_bvh8(const Bvh& binary, std::span<const vec3> triangle_vertices, int t
                     kBlockUnits * (binary.prim_indices.size() / 4 + leaves));
   HugeVector<uint32_t> blocks;
   blocks.reserve(binary.prim_indices.size() / 4 + leaves);
-  const CollapsePlan plan(binary);
+  const CollapsePlan plan(binary, threads);
   Collapser{binary, plan, out, blocks}.collapse(0);
   // Gathering the vertices is most of the collapse's time (random reads): in parallel.
   parallel_chunks(blocks.size(), threads, 2048, [&](int, size_t begin, size_t end) {
