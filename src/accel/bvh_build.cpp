@@ -537,7 +537,9 @@ Bvh build_from(uint32_t n, const BvhBuildOptions& options, BoxOf&& box_of) {
   b.build({0, 0, n, 0, all}, threads, bvh.nodes);
   bvh.depth = b.depth.load();
   bvh.prim_indices.resize(n);
-  for (uint32_t i = 0; i < n; ++i) bvh.prim_indices[i] = refs[i].id();
+  parallel_chunks(n, threads, kMinParallelPrims, [&](int, size_t begin, size_t end) {
+    for (size_t i = begin; i < end; ++i) bvh.prim_indices[i] = refs[i].id();
+  });
   return bvh;
 }
 
