@@ -67,6 +67,14 @@ bool sample_light(const Light& light, vec3 ref, vec2 u, LightSampling mode, Ligh
 float light_pdf(const Light& light, vec3 ref, vec3 wi, float dist, vec3 n_light, LightSampling mode,
                 float auto_min_spread = kAutoMinSpread);
 
+/// Whether every point of `light` lies below the plane through `p` with unit normal `n`, by a margin far beyond
+/// what the rounding of a sampled point and of the receiver's test could make up (kBelowPlaneMargin in light.cpp):
+/// then every sample_light direction from p has dot(wi, n) < 0, where the BSDF's geometric test (bsdf.h,
+/// eval_bsdf_cos) gives zero. A test on the corners (sphere: its center and radius). render_scene.cpp runs it per
+/// triangle at scene build (RenderScene::tri_unlit_sides), so the integrator can skip a light sample with the same
+/// result: asked per light sample it cost more than the sampling it saved (issue 11).
+bool light_below_plane(const Light& light, vec3 p, vec3 n);
+
 /// All lights of a scene with the power distribution to choose among them.
 struct LightSet {
   std::vector<Light> lights;

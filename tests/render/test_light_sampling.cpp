@@ -6,6 +6,7 @@
 
 #include "../core/chi_square.h"
 #include "core/frame.h"
+#include "core/rng.h"
 #include "render/light.h"
 #include "render/render_scene.h"
 #include "scene_builders.h"
@@ -383,6 +384,43 @@ TEST(LightSampling, BackSideAndBehindGiveNothing) {
   EXPECT_TRUE(sample_light(rect, vec3(0.5f, 2.0f, 0.5f), vec2(0.5f), LightSampling::solid_angle, ls));
   Light sphere = make_sphere_light(vec3(0), 1.0f, vec3(1));
   EXPECT_FALSE(sample_light(sphere, vec3(0.2f, 0, 0), vec2(0.5f), LightSampling::solid_angle, ls));  // inside
+}
+
+/// light_below_plane is what lets the integrator skip light samples (RenderScene::tri_unlit_sides): wherever it says
+/// a light is below a plane, no sample_light direction, in any mode, may come out above it by the test eval_bsdf_cos
+/// makes (dot(wi, n) <= 0). And it must say so for a plane well above the light, and not for one that touches it.
+TEST(LightSampling, LightBelowPlaneOnlyWhereNoSampleRisesAboveIt) {
+  const Light lights[] = {make_rect_light(vec3(-0.5f, 1, -0.4f), vec3(1, 0, 0), vec3(0, 0, 0.8f), vec3(1)),
+                          make_rect_light(vec3(-0.5f, 1, -0.4f), vec3(0.8f, 0, 0), vec3(0.3f, 0, 0.8f), vec3(1)),
+                          make_triangle_light(vec3(-0.5f, 1, -0.4f), vec3(0.5f, 1, -0.4f), vec3(-0.2f, 1, 0.5f), vec3(1)),
+                          make_sphere_light(vec3(0.2f, 1, 0.1f), 0.3f, vec3(1))};
+  for (const Light& l : lights) {
+    // Every light here lies within y in [0.7, 1.3].
+    EXPECT_TRUE(light_below_plane(l, vec3(0.3f, 3, -0.2f), vec3(0, 1, 0)));     // well above it
+    EXPECT_FALSE(light_below_plane(l, vec3(0.3f, 3, -0.2f), vec3(0, -1, 0)));   // the other side
+    EXPECT_FALSE(light_below_plane(l, vec3(0.3f, -3, -0.2f), vec3(0, 1, 0)));   // below it
+    EXPECT_FALSE(light_below_plane(l, l.p0, vec3(1, 0, 0)));                    // the plane cuts or touches it
+    EXPECT_FALSE(light_below_plane(l, l.p0 + vec3(0, l.radius, 0), vec3(0, 1, 0)));  // touches it from above
+  }
+  Pcg32 rng = make_sample_rng(7, 0, 0);
+  int below = 0;
+  for (int trial = 0; trial < 4000; ++trial) {
+    const Light& l = lights[size_t(trial) % 4];
+    const vec3 n = sample_uniform_sphere(vec2(rng.next_float(), rng.next_float()));
+    // Half the planes anywhere, half just above the light's corner (sphere: center), 1e-6 to 1 away: near the margin.
+    const vec3 p = trial % 8 < 4 ? vec3(4.0f * rng.next_float() - 2.0f, 3.0f * rng.next_float(), 4.0f * rng.next_float() - 2.0f)
+                                 : l.p0 + (l.radius + std::pow(10.0f, -6.0f * rng.next_float())) * n;
+    if (!light_below_plane(l, p, n)) continue;
+    ++below;
+    for (LightSampling mode : {LightSampling::area, LightSampling::solid_angle, LightSampling::automatic})
+      for (int i = 0; i < 64; ++i) {
+        LightSample ls;
+        if (sample_light(l, p, vec2(rng.next_float(), rng.next_float()), mode, ls)) {
+          ASSERT_LE(glm::dot(ls.wi, n), 0.0f) << "trial " << trial;
+        }
+      }
+  }
+  EXPECT_GT(below, 500);
 }
 
 }  // namespace
