@@ -312,10 +312,17 @@ namespace {
 constexpr float kBelowPlaneMargin = 1e-4f;
 }  // namespace
 
-bool light_below_plane(const Light& light, vec3 p, vec3 n) {
-  // The height of the light's highest point over the plane: its corner's plus each edge's rise, where it rises.
-  float highest = glm::dot(light.p0 - p, n);
+bool light_below_plane(const Light& light, std::span<const vec3> points, vec3 n) {
+  // Heights along n: the plane's lowest (through the lowest point), the light's highest point (its corner plus each
+  // edge's rise where it rises; a sphere's center plus its radius).
+  float plane = kInfinity;
+  vec3 magnitude(0.0f);  // per axis, the largest |coordinate| of the points, for the margin
+  for (vec3 p : points) {
+    plane = std::min(plane, glm::dot(p, n));
+    magnitude = glm::max(magnitude, glm::abs(p));
+  }
   const float rise1 = glm::dot(light.e1, n), rise2 = glm::dot(light.e2, n);
+  float highest = glm::dot(light.p0, n);
   switch (light.kind) {
     case LightKind::rect:  // corners p0 + {0, e1} + {0, e2}
       highest += std::max(0.0f, rise1) + std::max(0.0f, rise2);
@@ -328,8 +335,8 @@ bool light_below_plane(const Light& light, vec3 p, vec3 n) {
       break;
   }
   const float scale =
-      glm::dot(glm::abs(p) + glm::abs(light.p0) + glm::abs(light.e1) + glm::abs(light.e2), glm::abs(n)) + light.radius;
-  return highest < -kBelowPlaneMargin * scale;  // false for NaN
+      glm::dot(magnitude + glm::abs(light.p0) + glm::abs(light.e1) + glm::abs(light.e2), glm::abs(n)) + light.radius;
+  return highest - plane < -kBelowPlaneMargin * scale;  // false for NaN (and for no points)
 }
 
 float triangle_area_density_spread(const Light& light, vec3 ref) {

@@ -58,20 +58,21 @@ void compute_triangle_shading(RenderGeometry& g) {
     g.tri_shading[t] = triangle_shading(&g.tri_vertices[3 * t], &g.tri_normals[3 * t]);
 }
 
-/// find_unlit_sides's bound on the light count (the work is triangles x lights, repeated on every material edit).
-constexpr size_t kMaxLightsForUnlitSides = 8;
+/// find_unlit_sides's bound on the light count. Its work is triangles x lights, redone on every material edit: about
+/// 40 ns a triangle with one light (4 ms on the 100k-triangle cornell-large-mesh, a tenth of its BVH build), and with
+/// many lights every one of them must lie below a side for it to count, which gets rare.
+constexpr size_t kMaxLightsForUnlitSides = 4;
 
 /// Fills rs.tri_unlit_sides (render_scene.h). A point hit on a triangle is a convex combination of its corners up to
-/// rounding far below light_below_plane's margin, so a light below the plane at all three corners is below it at
-/// every hit, on the side whose normal eval_bsdf_cos tests (sc.ng: +-ng, exactly).
+/// rounding far below light_below_plane's margin, so a light below the triangle's plane is below it at every hit, on
+/// the side whose normal eval_bsdf_cos tests (sc.ng: +-ng, exactly).
 void find_unlit_sides(RenderScene& rs) {
   const RenderGeometry& g = *rs.geo;
   rs.tri_unlit_sides.assign(g.triangle_count(), 0);
   if (rs.lights.empty() || rs.lights.lights.size() > kMaxLightsForUnlitSides) return;
   auto unlit = [&](const vec3* v, vec3 n) {
     for (const Light& l : rs.lights.lights)
-      for (int k = 0; k < 3; ++k)
-        if (!light_below_plane(l, v[k], n)) return false;
+      if (!light_below_plane(l, std::span<const vec3>(v, 3), n)) return false;
     return true;
   };
   for (uint32_t t = 0; t < g.triangle_count(); ++t) {

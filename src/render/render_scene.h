@@ -65,7 +65,7 @@ struct RenderScene {
   std::vector<Material> materials;
   std::vector<int32_t> tri_light;     ///< per triangle: index into lights, or -1
   std::vector<int32_t> sphere_light;  ///< per sphere
-  /// Per triangle, the sides that no light can reach (light_below_plane at every corner for every light): bit 0
+  /// Per triangle, the sides that no light can reach (light_below_plane of its corners, for every light): bit 0
   /// the front (ng) side, bit 1 the back side. Direct light there is zero whatever light sample is drawn, so the
   /// integrator skips sampling (issue 11: the Cornell boxes' far sides took 13% of the light samples and the whole
   /// sampling cost before being rejected; a per-hit plane test cost more than it saved). Only computed for scenes
