@@ -57,6 +57,12 @@ struct VertexSamples {
 
 vec3 direct_light(const RenderScene& scene, const RenderParams& params, VertexLightSampling mode, const SurfaceHit& sh,
                   const ShadingContext& sc, const Material& m, const VertexSamples& vs, RenderCounters& c) {
+  if (sh.unlit_sides & (sc.entering ? 1 : 2)) {
+    // Every light lies below this side's plane: eval_bsdf_cos would be zero toward any sample (render_scene.h,
+    // tri_unlit_sides). The numbers in vs are drawn already, so skipping changes no later sample.
+    ++c.shadow_skipped_zero_bsdf;
+    return vec3(0.0f);
+  }
   const float u_light = vs.light_choice;
   const vec2 u = vs.light_point;
   float pmf = 0.0f;

@@ -304,6 +304,41 @@ float light_pdf(const Light& light, vec3 ref, vec3 wi, float dist, vec3 n_light,
   return 0.0f;
 }
 
+namespace {
+/// light_below_plane's margin, relative to the magnitudes of the coordinates involved: a sampled point is off the
+/// light by a few float roundings of those magnitudes (spherical samples are clamped to the rectangle or triangle
+/// and rebuilt from the corner and edges), the receiver's dot(wi, n) by a few more; 1e-4 is about a thousand times
+/// that, and still rejects only what lies well below the plane (a tenth of a unit in a 500-unit Cornell box).
+constexpr float kBelowPlaneMargin = 1e-4f;
+}  // namespace
+
+bool light_below_plane(const Light& light, std::span<const vec3> points, vec3 n) {
+  // Heights along n: the plane's lowest (through the lowest point), the light's highest point (its corner plus each
+  // edge's rise where it rises; a sphere's center plus its radius).
+  float plane = kInfinity;
+  vec3 magnitude(0.0f);  // per axis, the largest |coordinate| of the points, for the margin
+  for (vec3 p : points) {
+    plane = std::min(plane, glm::dot(p, n));
+    magnitude = glm::max(magnitude, glm::abs(p));
+  }
+  const float rise1 = glm::dot(light.e1, n), rise2 = glm::dot(light.e2, n);
+  float highest = glm::dot(light.p0, n);
+  switch (light.kind) {
+    case LightKind::rect:  // corners p0 + {0, e1} + {0, e2}
+      highest += std::max(0.0f, rise1) + std::max(0.0f, rise2);
+      break;
+    case LightKind::triangle:  // corners p0, p0 + e1, p0 + e2
+      highest += std::max(0.0f, std::max(rise1, rise2));
+      break;
+    case LightKind::sphere:
+      highest += light.radius;
+      break;
+  }
+  const float scale =
+      glm::dot(magnitude + glm::abs(light.p0) + glm::abs(light.e1) + glm::abs(light.e2), glm::abs(n)) + light.radius;
+  return highest - plane < -kBelowPlaneMargin * scale;  // false for NaN (and for no points)
+}
+
 float triangle_area_density_spread(const Light& light, vec3 ref) {
   const vec3 n = ref - nearest_point_on_triangle(ref, light.p0, light.e1, light.e2);
   const vec3 d0 = ref - light.p0, d1 = d0 - light.e1, d2 = d0 - light.e2;

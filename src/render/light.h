@@ -3,6 +3,7 @@
 /// sampled; every pdf is returned in solid angle at the receiving point (the area-to-solid-angle conversion lives
 /// only in this module, pbrt-v4 section 4.2.3).
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "core/ray.h"
@@ -66,6 +67,15 @@ bool sample_light(const Light& light, vec3 ref, vec2 u, LightSampling mode, Ligh
 /// reached from `ref` along unit direction `wi` at distance `dist`. Used for MIS when a BSDF ray hits a light.
 float light_pdf(const Light& light, vec3 ref, vec3 wi, float dist, vec3 n_light, LightSampling mode,
                 float auto_min_spread = kAutoMinSpread);
+
+/// Whether every point of `light` lies below the plane with unit normal `n` through each of `points` (a triangle's
+/// corners: on one plane up to rounding), by a margin far beyond what the rounding of a sampled point and of the
+/// receiver's test could make up (kBelowPlaneMargin in light.cpp): then from any point of their convex hull every
+/// sample_light direction wi has dot(wi, n) < 0, where the BSDF's geometric test (bsdf.h, eval_bsdf_cos) gives
+/// zero. A test on the light's corners (sphere: its center and radius). render_scene.cpp runs it per triangle at
+/// scene build (RenderScene::tri_unlit_sides), so the integrator can skip a light sample with the same result: asked
+/// per light sample it cost more than the sampling it saved (issue 11).
+bool light_below_plane(const Light& light, std::span<const vec3> points, vec3 n);
 
 /// All lights of a scene with the power distribution to choose among them.
 struct LightSet {

@@ -32,6 +32,57 @@ bool parallelogram_of(const vec3* a, const vec3* b, vec3& corner, vec3& e1, vec3
   return true;
 }
 
+/// The unit normal of triangle v (CCW front) and whether its corners' normals n give it shading normals.
+TriangleShading triangle_shading(const vec3* v, const vec3* n) {
+  TriangleShading ts;
+  vec3 ng = glm::cross(v[1] - v[0], v[2] - v[0]);
+  float len = glm::length(ng);
+  if (!std::isfinite(len)) {
+    // The edges or their cross product overflow float (coordinates beyond ~1e19): a NaN normal gave the bounce
+    // ray a NaN direction (found by fuzz_render). Double has the range.
+    dvec3 c = glm::cross(dvec3(v[1]) - dvec3(v[0]), dvec3(v[2]) - dvec3(v[0]));
+    double dl = glm::length(c);
+    ng = dl > 0.0 && std::isfinite(dl) ? vec3(c / dl) : vec3(0.0f);
+    len = dl > 0.0 && std::isfinite(dl) ? 1.0f : 0.0f;
+  }
+  ts.valid_ng = len > 0.0f;
+  if (ts.valid_ng) ts.ng = ng / len;
+  ts.has_normals = n[0] != vec3(0.0f) || n[1] != vec3(0.0f) || n[2] != vec3(0.0f);
+  return ts;
+}
+
+/// Fills g.tri_shading from g.tri_vertices and g.tri_normals.
+void compute_triangle_shading(RenderGeometry& g) {
+  g.tri_shading.resize(g.triangle_count());
+  for (uint32_t t = 0; t < g.triangle_count(); ++t)
+    g.tri_shading[t] = triangle_shading(&g.tri_vertices[3 * t], &g.tri_normals[3 * t]);
+}
+
+/// find_unlit_sides's bound on the light count. Its work is triangles x lights, redone on every material edit: about
+/// 40 ns a triangle with one light (4 ms on the 100k-triangle cornell-large-mesh, a tenth of its BVH build), and with
+/// many lights every one of them must lie below a side for it to count, which gets rare.
+constexpr size_t kMaxLightsForUnlitSides = 4;
+
+/// Fills rs.tri_unlit_sides (render_scene.h). A point hit on a triangle is a convex combination of its corners up to
+/// rounding far below light_below_plane's margin, so a light below the triangle's plane is below it at every hit, on
+/// the side whose normal eval_bsdf_cos tests (sc.ng: +-ng, exactly).
+void find_unlit_sides(RenderScene& rs) {
+  const RenderGeometry& g = *rs.geo;
+  rs.tri_unlit_sides.assign(g.triangle_count(), 0);
+  if (rs.lights.empty() || rs.lights.lights.size() > kMaxLightsForUnlitSides) return;
+  auto unlit = [&](const vec3* v, vec3 n) {
+    for (const Light& l : rs.lights.lights)
+      if (!light_below_plane(l, std::span<const vec3>(v, 3), n)) return false;
+    return true;
+  };
+  for (uint32_t t = 0; t < g.triangle_count(); ++t) {
+    const TriangleShading& ts = g.tri_shading[t];
+    if (!ts.valid_ng) continue;  // its hits take the ray's direction as normal
+    const vec3* v = &g.tri_vertices[3 * t];
+    rs.tri_unlit_sides[t] = uint8_t((unlit(v, ts.ng) ? 1 : 0) | (unlit(v, -ts.ng) ? 2 : 0));
+  }
+}
+
 /// Recomputes everything that depends on materials: which primitives are lights, the light set, feature flags.
 void rebuild_lights(RenderScene& rs) {
   const RenderGeometry& g = *rs.geo;
@@ -76,6 +127,7 @@ void rebuild_lights(RenderScene& rs) {
     if (m.emissive()) rs.sphere_light[s] = add(make_sphere_light(g.spheres[s].center, g.spheres[s].radius, m.emission));
   }
   rs.lights.finalize();
+  find_unlit_sides(rs);
 }
 
 }  // namespace
@@ -136,6 +188,7 @@ std::shared_ptr<const RenderGeometry> make_render_geometry(const Scene& scene, c
     vec3 c = glm::cross(v[1] - v[0], v[2] - v[0]);
     if (!(glm::dot(c, c) > 0.0f)) ++g.degenerate_triangles;
   }
+  compute_triangle_shading(g);
   g.trace = make_trace_geometry(g.tri_vertices, g.spheres, options);
   return geo;
 }
@@ -171,6 +224,7 @@ std::shared_ptr<const RenderGeometry> refit_render_geometry(const RenderGeometry
   for (const Quad& q : scene.quads)
     for (vec3 p : quad_triangles(q, o)) *v++ = p;
   for (size_t s = 0; s < scene.spheres.size(); ++s) g.spheres[s] = {scene.spheres[s].center - o, scene.spheres[s].radius};
+  compute_triangle_shading(g);
   refit_trace_geometry(g.trace, g.tri_vertices, g.spheres);
   return out;
 }
@@ -184,25 +238,20 @@ SurfaceHit make_surface_hit(const RenderScene& rs, const Ray& ray, const Hit& hi
     float b0 = 1.0f - hit.b1 - hit.b2;
     vec3 p = b0 * v[0] + hit.b1 * v[1] + hit.b2 * v[2];
     vec3 err = gamma_bound(7) * (glm::abs(b0 * v[0]) + glm::abs(hit.b1 * v[1]) + glm::abs(hit.b2 * v[2]));
-    vec3 ng = glm::cross(v[1] - v[0], v[2] - v[0]);
-    float len = glm::length(ng);
-    if (!std::isfinite(len)) {
-      // The edges or their cross product overflow float (coordinates beyond ~1e19): a NaN normal gave the bounce
-      // ray a NaN direction (found by fuzz_render). Double has the range.
-      dvec3 c = glm::cross(dvec3(v[1]) - dvec3(v[0]), dvec3(v[2]) - dvec3(v[0]));
-      double dl = glm::length(c);
-      ng = dl > 0.0 && std::isfinite(dl) ? vec3(c / dl) : vec3(0.0f);
-      len = dl > 0.0 && std::isfinite(dl) ? 1.0f : 0.0f;
-    }
-    ng = len > 0.0f ? ng / len : -ray.dir;
+    const TriangleShading& ts = g.tri_shading[t];
+    const vec3 ng = ts.valid_ng ? ts.ng : -ray.dir;
     sh.sp = {p, err, ng};
-    const vec3* n = &g.tri_normals[3 * t];
-    vec3 ns = b0 * n[0] + hit.b1 * n[1] + hit.b2 * n[2];
-    float ns_len = glm::length(ns);
-    sh.ns = (ns_len > 1e-6f && std::isfinite(ns_len)) ? ns / ns_len : ng;
-    if (glm::dot(sh.ns, ng) < 0.0f) sh.ns = -sh.ns;
+    sh.ns = ng;
+    if (ts.has_normals) {  // (without, the interpolation below would give zero, whose fallback is ng too)
+      const vec3* n = &g.tri_normals[3 * t];
+      vec3 ns = b0 * n[0] + hit.b1 * n[1] + hit.b2 * n[2];
+      float ns_len = glm::length(ns);
+      if (ns_len > 1e-6f && std::isfinite(ns_len)) sh.ns = ns / ns_len;
+      if (glm::dot(sh.ns, ng) < 0.0f) sh.ns = -sh.ns;
+    }
     sh.material = g.tri_material[t];
     sh.light = rs.tri_light[t];
+    sh.unlit_sides = rs.tri_unlit_sides[t];
   } else {
     const uint32_t s = hit.prim - g.triangle_count();
     const SphereShape& sphere = g.spheres[s];

@@ -17,6 +17,7 @@ struct SurfaceHit {
   vec3 ns{0, 0, 1};      ///< shading normal, on the same side as sp.ng
   uint32_t material = 0;
   int32_t light = -1;    ///< index into lights, or -1
+  uint8_t unlit_sides = 0;  ///< RenderScene::tri_unlit_sides of the triangle hit (0 for spheres)
 };
 
 /// Scene features the integrator specializes on.
@@ -24,6 +25,15 @@ struct SceneFeatures {
   bool has_delta = false;       ///< some material scatters into delta directions only (info_of(type).delta)
   bool has_background = false;
   uint32_t material_types = 0;  ///< bit (1 << int(type)) for every material type present, for the stats
+};
+
+/// What make_surface_hit needs of a triangle beyond its vertices, computed once per triangle rather than at every
+/// hit (issue 11: the normal's square root and division were the largest cost of a hit). Exactly the values the
+/// per-hit computation gave, so images do not change.
+struct TriangleShading {
+  vec3 ng{0.0f};             ///< unit geometric normal (front = CCW); unused when !valid_ng
+  bool valid_ng = false;     ///< false for a degenerate triangle: its hits take -ray.dir as their normal
+  bool has_normals = false;  ///< some corner has a shading normal (else the shading normal is ng)
 };
 
 /// The immutable, heavy part of a render scene: flattened primitives and the BVH. Shared (not copied) between
@@ -36,6 +46,7 @@ struct RenderGeometry {
   // the triangle has none), material per triangle.
   std::vector<vec3> tri_vertices;
   std::vector<vec3> tri_normals;
+  std::vector<TriangleShading> tri_shading;  ///< per triangle, from tri_vertices and tri_normals
   std::vector<uint32_t> tri_material;
   uint32_t quad_first_triangle = 0;  ///< triangles from here on come in pairs, one pair per scene quad
   std::vector<SphereShape> spheres;
@@ -54,6 +65,12 @@ struct RenderScene {
   std::vector<Material> materials;
   std::vector<int32_t> tri_light;     ///< per triangle: index into lights, or -1
   std::vector<int32_t> sphere_light;  ///< per sphere
+  /// Per triangle, the sides that no light can reach (light_below_plane of its corners, for every light): bit 0
+  /// the front (ng) side, bit 1 the back side. Direct light there is zero whatever light sample is drawn, so the
+  /// integrator skips sampling (issue 11: the Cornell boxes' far sides took 13% of the light samples and the whole
+  /// sampling cost before being rejected; a per-hit plane test cost more than it saved). Only computed for scenes
+  /// with at most kMaxLightsForUnlitSides lights (it costs triangles x lights), else all zero.
+  std::vector<uint8_t> tri_unlit_sides;
   LightSet lights;
   vec3 background{0.0f};
   SceneFeatures features;

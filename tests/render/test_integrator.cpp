@@ -386,5 +386,42 @@ TEST(NonFinite, SamplesAreDroppedAndCounted) {
   EXPECT_EQ(counted + c.nonfinite_samples, 64u);
 }
 
+/// RenderScene::tri_unlit_sides only skips light samples that add nothing: the same scene renders bit-identically
+/// with the marks cleared, with the same counters. A box in the room has sides facing away from the light (marked),
+/// and the room's walls are marked on their outer sides only.
+TEST(UnlitSides, SkippingThemChangesNothing) {
+  Scene s = test::make_test_cornell();
+  add_box(s, vec3(-0.7f, 0, 0.1f), vec3(-0.3f, 1.2f, 0.6f), 0, false);
+  const RenderScene rs = make_render_scene(s);
+  RenderScene cleared = rs;
+  std::fill(cleared.tri_unlit_sides.begin(), cleared.tri_unlit_sides.end(), uint8_t(0));
+  int front_unlit = 0;
+  for (uint32_t t = 0; t < rs.triangle_count(); ++t) {
+    const uint32_t quad = (t - rs.geo->quad_first_triangle) / 2;
+    if (quad < 6) {
+      EXPECT_EQ(rs.tri_unlit_sides[t], 2) << "room wall " << quad;  // lit inside, unlit outside
+    } else if (quad == 6) {
+      EXPECT_EQ(rs.tri_unlit_sides[t], 0) << "the light";  // in its own plane
+    }
+    front_unlit += rs.tri_unlit_sides[t] & 1;
+  }
+  EXPECT_GE(front_unlit, 4);  // the box's sides at -x and +z, and its bottom, face away from the light
+  RenderParams p;
+  p.width = p.height = 48;
+  p.max_depth = 8;
+  Renderer renderer(2);
+  Film a(p.width, p.height), b(p.width, p.height);
+  RenderCounters ca, cb;
+  for (uint32_t f = 0; f < 4; ++f) {
+    renderer.render_frame(rs, p, a, f, ca);
+    renderer.render_frame(cleared, p, b, f, cb);
+  }
+  EXPECT_EQ(a.sum, b.sum);
+  EXPECT_EQ(a.half_sum, b.half_sum);
+  EXPECT_EQ(ca.shadow_rays, cb.shadow_rays);
+  EXPECT_EQ(ca.shadow_skipped_zero_bsdf, cb.shadow_skipped_zero_bsdf);
+  EXPECT_EQ(ca.shadow_skipped_backfacing, cb.shadow_skipped_backfacing);
+}
+
 }  // namespace
 }  // namespace pt

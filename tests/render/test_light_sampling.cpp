@@ -6,6 +6,7 @@
 
 #include "../core/chi_square.h"
 #include "core/frame.h"
+#include "core/rng.h"
 #include "render/light.h"
 #include "render/render_scene.h"
 #include "scene_builders.h"
@@ -383,6 +384,55 @@ TEST(LightSampling, BackSideAndBehindGiveNothing) {
   EXPECT_TRUE(sample_light(rect, vec3(0.5f, 2.0f, 0.5f), vec2(0.5f), LightSampling::solid_angle, ls));
   Light sphere = make_sphere_light(vec3(0), 1.0f, vec3(1));
   EXPECT_FALSE(sample_light(sphere, vec3(0.2f, 0, 0), vec2(0.5f), LightSampling::solid_angle, ls));  // inside
+}
+
+bool below(const Light& l, vec3 p, vec3 n) { return light_below_plane(l, std::span<const vec3>(&p, 1), n); }
+
+/// light_below_plane is what lets the integrator skip light samples (RenderScene::tri_unlit_sides): wherever it says
+/// a light is below a triangle's plane, no sample_light direction from a point of the triangle, in any mode, may
+/// come out above it by the test eval_bsdf_cos makes (dot(wi, n) <= 0). And it must say so for a plane well above
+/// the light, and not for one that cuts or touches it.
+TEST(LightSampling, LightBelowPlaneOnlyWhereNoSampleRisesAboveIt) {
+  const Light lights[] = {make_rect_light(vec3(-0.5f, 1, -0.4f), vec3(1, 0, 0), vec3(0, 0, 0.8f), vec3(1)),
+                          make_rect_light(vec3(-0.5f, 1, -0.4f), vec3(0.8f, 0, 0), vec3(0.3f, 0, 0.8f), vec3(1)),
+                          make_triangle_light(vec3(-0.5f, 1, -0.4f), vec3(0.5f, 1, -0.4f), vec3(-0.2f, 1, 0.5f), vec3(1)),
+                          make_sphere_light(vec3(0.2f, 1, 0.1f), 0.3f, vec3(1))};
+  for (const Light& l : lights) {
+    // Every light here lies within y in [0.7, 1.3].
+    EXPECT_TRUE(below(l, vec3(0.3f, 3, -0.2f), vec3(0, 1, 0)));                // well above it
+    EXPECT_FALSE(below(l, vec3(0.3f, 3, -0.2f), vec3(0, -1, 0)));              // the other side
+    EXPECT_FALSE(below(l, vec3(0.3f, -3, -0.2f), vec3(0, 1, 0)));              // below it
+    EXPECT_FALSE(below(l, l.p0, vec3(1, 0, 0)));                               // the plane cuts or touches it
+    EXPECT_FALSE(below(l, l.p0 + vec3(0, l.radius, 0), vec3(0, 1, 0)));        // touches it from above
+    const vec3 tri[3] = {vec3(0, 3, 0), vec3(1, 3, 0), vec3(0, 1.0f, 1)};       // a tilted plane, the light above it
+    EXPECT_FALSE(light_below_plane(l, tri, glm::normalize(glm::cross(tri[1] - tri[0], tri[2] - tri[0]))));
+  }
+  Pcg32 rng = make_sample_rng(7, 0, 0);
+  auto uniform = [&] { return rng.next_float(); };
+  int below_count = 0;
+  for (int trial = 0; trial < 4000; ++trial) {
+    const Light& l = lights[size_t(trial) % 4];
+    const Frame f = Frame::from_normal(sample_uniform_sphere(vec2(uniform(), uniform())));
+    // Half the triangles anywhere, half with a corner just above the light's corner (sphere: center), 1e-6 to 1
+    // away: near the margin.
+    const vec3 c = trial % 8 < 4 ? vec3(4.0f * uniform() - 2.0f, 3.0f * uniform(), 4.0f * uniform() - 2.0f)
+                                 : l.p0 + (l.radius + std::pow(10.0f, -6.0f * uniform())) * f.n;
+    const vec3 tri[3] = {c, c + (uniform() - 0.5f) * f.s + (uniform() - 0.5f) * f.t,
+                         c + (uniform() - 0.5f) * f.s + (uniform() - 0.5f) * f.t};
+    const vec3 n = f.n;
+    if (!light_below_plane(l, tri, n)) continue;
+    ++below_count;
+    for (LightSampling mode : {LightSampling::area, LightSampling::solid_angle, LightSampling::automatic})
+      for (int i = 0; i < 64; ++i) {
+        const vec3 b = sample_uniform_triangle(vec2(uniform(), uniform()));
+        const vec3 p = b.x * tri[0] + b.y * tri[1] + b.z * tri[2];
+        LightSample ls;
+        if (sample_light(l, p, vec2(uniform(), uniform()), mode, ls)) {
+          ASSERT_LE(glm::dot(ls.wi, n), 0.0f) << "trial " << trial;
+        }
+      }
+  }
+  EXPECT_GT(below_count, 500);
 }
 
 }  // namespace
