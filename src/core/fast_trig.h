@@ -1,8 +1,8 @@
 #pragma once
 /// Float arctangent, sine and cosine as short inlined polynomials for the sampling warps (core/sampling.cpp).
 /// The arctangent serves the solid-angle warps (spherical rectangles and triangles), which need one or two per
-/// light sample. The C library's atanf is an out-of-line call with
-/// its own reduction and special cases (measured: 4 atanf were about 11 ns of a 100 ns rectangle setup + sample);
+/// light sample. The C library's atanf is an out-of-line call with its own reduction and special cases
+/// (measured: 4 atanf were about 11 ns of a 100 ns rectangle setup + sample);
 /// this one is within about 2 ulp (tests/core/test_fast_trig.cpp bounds it against double precision) and costs one
 /// division and a handful of multiplications. Coefficients: Cephes' atanf minimax polynomial on
 /// [-tan(pi/8), tan(pi/8)] (S. Moshier, "Methods and Programs for Mathematical Functions", 1989). Sine and cosine

@@ -15,8 +15,9 @@ namespace {
 /// center. The square's point (a, b) with |a| >= |b| goes to radius a at angle phi = pi/4 (b / a); with |b| > |a|,
 /// to radius b at angle pi/2 - phi, phi = pi/4 (a / b), whose cosine and sine are phi's sine and cosine. So one
 /// division and the sine and cosine of an angle within [-pi/4, pi/4] (a polynomial, no reduction) serve both
-/// halves, selected without a branch: which half a sample falls in is a coin toss, and a mispredicted branch cost
-/// more than the arithmetic.
+/// halves, selected without a branch: which half a sample falls in is a coin toss, so a branch on it would
+/// mispredict about half the time (the branchless map with the polynomial: 10.2% -> 4.9% of a cornell36 frame
+/// together; the two parts were not measured apart).
 inline vec2 concentric_map(vec2 u, float& radius) {
   const vec2 o = 2.0f * u - vec2(1.0f);
   const bool x_major = std::abs(o.x) > std::abs(o.y);
