@@ -163,16 +163,17 @@ vec3 trace_path_impl(const RenderScene& scene, const RenderParams& params, Ray r
     ++c.bounce_rays;
 
     // Russian roulette on the throughput with the eta^2 scaling undone (pbrt-v4 section 13.4.4).
-    vec3 rr_beta = beta / eta_scale;
-    float rr_max = max_component(rr_beta);
+    const float rr_max = max_component(beta / eta_scale);
     if (!(rr_max > 0.0f)) break;
-    if (rr_max < 1.0f && depth >= 2) {
-      float q = std::max(0.05f, 1.0f - rr_max);
-      if (vs.roulette < q) {
-        ++c.paths_ended_roulette;
-        break;
+    if (depth >= 2) {
+      const float survive = roulette_survival(rr_max);
+      if (survive < 1.0f) {
+        if (vs.roulette >= survive) {
+          ++c.paths_ended_roulette;
+          break;
+        }
+        beta /= survive;
       }
-      beta /= 1.0f - q;
     }
   }
   return radiance;

@@ -27,6 +27,23 @@ IntegratorKind resolve_integrator(IntegratorKind kind, LightSampling light_sampl
 /// Which specialization of the path loop trace_path runs for this scene (for stats).
 const char* kernel_name(const RenderScene& scene, const RenderParams& params);
 
+/// Russian roulette's survival factor: a path survives with probability min(1, kRouletteBoost x the largest
+/// component of its throughput, eta^2 scaling undone). Why not the throughput itself (pbrt-v4 section 13.4.4, factor
+/// 1): take one roulette decision with survival s at throughput beta, the rest of the path having second moment M and
+/// cost C, the whole sample variance V and cost T. Then variance x cost is (V + beta^2 M (1/s - 1)) (T - C (1 - s)),
+/// least at s = beta sqrt(M (T - C) / ((V - beta^2 M) C)): proportional to the throughput, with a factor set by the
+/// scene (Rath et al. 2022, "EARS: Efficiency-Aware Russian Roulette and Splitting", learn such factors per region).
+/// That factor is 1 only by chance; where indirect light is much of a pixel (every Cornell scene) it is well above
+/// 1, and factor 1 ends paths that were cheap to continue: 1.5-1.7x the variance for 1.2x the speed. Measured with
+/// `make bench-error` and `make bench-cornell36` (docs/BENCHMARKS.md, "Eighth round"): efficiency peaks between 2
+/// and 4 on every scene and 3 gains 13-40% over 1, while no roulette at all loses 25-40% at depth 64. A factor
+/// learned per scene or region, as EARS does, is not attempted.
+inline constexpr float kRouletteBoost = 3.0f;
+
+/// The survival probability for a path whose throughput's largest component (eta^2 scaling undone) is rr_max;
+/// 1 or more means no roulette.
+inline float roulette_survival(float rr_max) { return kRouletteBoost * rr_max; }
+
 /// Power heuristic with beta = 2 for one sample from each strategy.
 inline float power_heuristic(float pdf_a, float pdf_b) {
   float a = pdf_a * pdf_a, b = pdf_b * pdf_b;
