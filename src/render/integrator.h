@@ -34,9 +34,9 @@ const char* kernel_name(const RenderScene& scene, const RenderParams& params);
 /// least at s = beta sqrt(M (T - C) / ((V - beta^2 M) C)): proportional to the throughput, with a factor set by the
 /// scene (Rath et al. 2022, "EARS: Efficiency-Aware Russian Roulette and Splitting", learn such factors per region).
 /// That factor is 1 only by chance; where indirect light is much of a pixel (every Cornell scene) it is well above
-/// 1, and factor 1 ends paths that were cheap to continue: 1.5-1.7x the variance for 1.2x the speed. Measured with
+/// 1, and factor 1 ends paths that were cheap to continue: 1.5-2x the variance for 1.2-1.4x the speed. Measured with
 /// `make bench-error` and `make bench-cornell36` (docs/BENCHMARKS.md, "Eighth round"): efficiency peaks between 2
-/// and 4 on every scene and 3 gains 13-40% over 1, while no roulette at all loses 25-40% at depth 64. A factor
+/// and 4 on every scene and 3 gains 9-43% over 1, while no roulette at all is 30-42% below 3 at depth 64. A factor
 /// learned per scene or region, as EARS does, is not attempted.
 inline constexpr float kRouletteBoost = 3.0f;
 
