@@ -77,11 +77,6 @@ bool finish_planar(const Light& light, vec3 ref, vec3 p, vec3 p_error, LightSamp
   return cos_light > 0.0f;
 }
 
-/// Solid-angle sampling pays off only between these bounds; outside them float precision (tiny or grazing
-/// rectangles) or the near-hemisphere case make uniform area sampling the better choice (pbrt-v4 uses the same
-/// thresholds, MinSphericalSampleArea and MaxSphericalSampleArea, for triangles and bilinear patches).
-constexpr float kMinSolidAngle = 3e-4f;
-constexpr float kMaxSolidAngle = 6.22f;
 
 /// Whether uniform area sampling of a rectangle is far from the solid-angle density at `ref`: whether the ratio of
 /// its largest to smallest solid-angle density over the rectangle (its spread) is at least k. That density is

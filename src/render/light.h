@@ -49,13 +49,22 @@ Light make_sphere_light(vec3 center, float radius, vec3 emission);
 /// Emitted power (luminance-weighted), the weight for picking a light.
 float light_power(const Light& light);
 
+/// Solid-angle sampling pays off only between these bounds; outside them float precision (tiny or grazing
+/// rectangles) or the near-hemisphere case make uniform area sampling the better choice (pbrt-v4 uses the same
+/// thresholds, MinSphericalSampleArea and MaxSphericalSampleArea, for triangles and bilinear patches). They apply
+/// under every LightSampling mode.
+inline constexpr float kMinSolidAngle = 3e-4f;
+inline constexpr float kMaxSolidAngle = 6.22f;
+
 /// LightSampling::automatic samples a rectangle or triangle by solid angle where area sampling's solid-angle density
 /// varies over it by at least this factor (max / min; rect_area_density_spread in light.cpp,
 /// triangle_area_density_spread below), by area elsewhere.
 /// The integrator asks for more at deeper path vertices (integrator.cpp, vertex_light_sampling).
-/// Both thresholds were chosen with bench-error (issue 11): on the lit plane 2 keeps all of solid angle's gain (8.9e-7
-/// against 9.4e-7 rel_mse at 128 spp, area 2.9e-6), on the Cornell box it leaves area sampling almost everywhere.
-inline constexpr float kAutoMinSpread = 2.0f;
+/// Both thresholds were chosen with bench-error (issue 11). At the first vertex 1.5: on the lit plane it keeps all
+/// of solid angle's gain (rel_mse 6.81e-7 at 64 spp, as solid angle everywhere; 2 left 7.60e-7, a ratio the time
+/// saved did not make up once roulette stopped hiding direct-light noise, docs/BENCHMARKS.md "Eighth round"), while
+/// on the Cornell scenes it leaves area sampling almost everywhere (their rel_mse is unchanged, their time up 0-2%).
+inline constexpr float kAutoMinSpread = 1.5f;
 /// The spread from which deeper path vertices (behind a diffuse bounce) take solid angle: only close to a light.
 inline constexpr float kAutoMinSpreadDeep = 8.0f;
 

@@ -349,6 +349,8 @@ void check_automatic_choice(const Light& l) {
         ASSERT_TRUE(make_spherical_rectangle(ref, l.p0, l.e1, l.e2, sr));
         solid_angle = sr.solid_angle;
       }
+      // Outside the usable range every mode samples by area, whatever the spread.
+      if (solid_angle < kMinSolidAngle || solid_angle > kMaxSolidAngle) continue;
       const bool took_solid_angle =
           std::abs(ls[0].pdf * solid_angle - 1.0f) < 1e-3f && std::abs(ls[1].pdf * solid_angle - 1.0f) < 1e-3f;
       const double s = spread(ref);
