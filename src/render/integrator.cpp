@@ -162,8 +162,9 @@ vec3 trace_path_impl(const RenderScene& scene, const RenderParams& params, Ray r
     ray = spawn_ray(sh.sp, bs.wi);
     ++c.bounce_rays;
 
-    // Russian roulette on the throughput with the eta^2 scaling undone (pbrt-v4 section 13.4.4).
-    const float rr_max = max_component(beta / eta_scale);
+    // Russian roulette on the throughput with the eta^2 scaling undone (pbrt-v4 section 13.4.4). Without glass
+    // eta_scale stays exactly 1, and the division, on the loop's critical path, is skipped.
+    const float rr_max = kDelta ? max_component(beta / eta_scale) : max_component(beta);
     if (!(rr_max > 0.0f)) break;
     if (depth >= 2) {
       const float survive = roulette_survival(rr_max);
@@ -172,7 +173,7 @@ vec3 trace_path_impl(const RenderScene& scene, const RenderParams& params, Ray r
           ++c.paths_ended_roulette;
           break;
         }
-        beta /= survive;
+        beta *= 1.0f / survive;  // one division rather than one per channel
       }
     }
   }
