@@ -77,7 +77,6 @@ bool finish_planar(const Light& light, vec3 ref, vec3 p, vec3 p_error, LightSamp
   return cos_light > 0.0f;
 }
 
-
 /// Whether uniform area sampling of a rectangle is far from the solid-angle density at `ref`: whether the ratio of
 /// its largest to smallest solid-angle density over the rectangle (its spread) is at least k. That density is
 /// A cos(theta_l) / r^2 = A h / r^3 for a receiver at height h above the light's plane, so the ratio is

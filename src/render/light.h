@@ -14,7 +14,7 @@ namespace pt {
 /// How a light point is sampled. solid_angle: spherical rectangles, parallelograms (two spherical triangles) and
 /// triangles wherever they are usable; area: uniform by area;
 /// automatic (the default): solid angle only where area sampling's density is far enough from it for the better
-/// distribution to pay for its cost, else area (kAutoMinSpread below; integrator.cpp vertex_light_sampling).
+/// distribution to pay for its cost, else area (kAutoMinSpread below; integrator.cpp VertexLightSampling).
 enum class LightSampling : int { area = 0, solid_angle = 1, automatic = 2 };
 
 enum class LightKind : uint8_t { rect, triangle, sphere };
@@ -57,13 +57,13 @@ inline constexpr float kMinSolidAngle = 3e-4f;
 inline constexpr float kMaxSolidAngle = 6.22f;
 
 /// LightSampling::automatic samples a rectangle or triangle by solid angle where area sampling's solid-angle density
-/// varies over it by at least this factor (max / min; rect_area_density_spread in light.cpp,
+/// varies over it by at least this factor (max / min; rect_area_density_spreads in light.cpp,
 /// triangle_area_density_spread below), by area elsewhere.
-/// The integrator asks for more at deeper path vertices (integrator.cpp, vertex_light_sampling).
+/// The integrator asks for more at deeper path vertices (integrator.cpp, VertexLightSampling).
 /// Both thresholds were chosen with bench-error (issue 11). At the first vertex 1.5: on the lit plane it keeps all
 /// of solid angle's gain (rel_mse 6.81e-7 at 64 spp, as solid angle everywhere; 2 left 7.60e-7, a ratio the time
 /// saved did not make up once roulette stopped hiding direct-light noise, docs/BENCHMARKS.md "Eighth round"), while
-/// on the Cornell scenes it leaves area sampling almost everywhere (their rel_mse is unchanged, their time up 0-2%).
+/// on the Cornell scenes it leaves area sampling almost everywhere (their rel_mse is unchanged, their time up 0-2.5%).
 inline constexpr float kAutoMinSpread = 1.5f;
 /// The spread from which deeper path vertices (behind a diffuse bounce) take solid angle: only close to a light.
 inline constexpr float kAutoMinSpreadDeep = 8.0f;
