@@ -15,6 +15,7 @@
 
 #include "accel/bvh.h"
 #include "accel/bvh8.h"
+#include "accel/sphere.h"
 #include "accel/triangle.h"
 #include "core/sampling.h"
 #include "render/sampler.h"
@@ -202,6 +203,49 @@ void BM_spherical_rectangle(benchmark::State& state) {
   });
 }
 BENCHMARK(BM_spherical_rectangle);
+
+// The two halves of the above on their own: the setup alone, then the sample from setups made beforehand (where
+// the time of a rectangle sample goes; setup and sample together cost more than the sum, the sample waiting on
+// the setup).
+void BM_spherical_rectangle_setup(benchmark::State& state) {
+  const Batch& d = batch();
+  RectangleFrame rect;
+  make_rectangle_frame(vec3(-0.5f, 1.0f, -0.5f), vec3(1, 0, 0), vec3(0, 0, 1), rect);
+  run_batch(state, [&](size_t i) {
+    SphericalRectangle sr;
+    const bool ok = make_spherical_rectangle(d.refs[i], rect, sr);
+    benchmark::DoNotOptimize(sr);
+    return ok;
+  });
+}
+BENCHMARK(BM_spherical_rectangle_setup);
+
+void BM_spherical_rectangle_sample(benchmark::State& state) {
+  const Batch& d = batch();
+  RectangleFrame rect;
+  make_rectangle_frame(vec3(-0.5f, 1.0f, -0.5f), vec3(1, 0, 0), vec3(0, 0, 1), rect);
+  std::vector<SphericalRectangle> setups(kCount);
+  for (size_t i = 0; i < kCount; ++i) make_spherical_rectangle(d.refs[i], rect, setups[i]);
+  run_batch(state, [&](size_t i) {
+    const vec3 p = sample_spherical_rectangle(setups[i], d.u[i]);
+    benchmark::DoNotOptimize(p);
+    return true;
+  });
+}
+BENCHMARK(BM_spherical_rectangle_sample);
+
+// Ray against sphere (accel/sphere.h, double precision): ray i against a sphere of radius 0.1 at triangle i's
+// centroid, which it is aimed near (even items, mostly hits), or at a neighbour's (odd items, mostly misses).
+void BM_intersect_sphere(benchmark::State& state) {
+  const Batch& d = batch();
+  run_batch(state, [&](size_t i) {
+    const auto& t = d.triangles[i ^ (i & 1) ^ ((i & 1) << 1)];
+    const float hit_t = intersect_sphere(d.rays[i], (t[0] + t[1] + t[2]) / 3.0f, 0.1f, kInfinity);
+    benchmark::DoNotOptimize(hit_t);
+    return hit_t < kInfinity;
+  });
+}
+BENCHMARK(BM_intersect_sphere);
 
 /// Setup at each shading point of the batch plus one sample, for a spherical shape S made by `make` and sampled by
 /// `sample` from a light in the plane y = 1 with corner (-0.5, 1, -0.5) and edges e1, e2.

@@ -23,9 +23,13 @@ void update_bounds(TraceGeometry& g) {
   if (!g.sphere_bvh.nodes.empty()) g.bounds_all.extend(g.sphere_bvh.nodes[0].bounds);
 }
 
+/// Up to this many spheres are tested one after the other, without their BVH: each test starts with the float
+/// culling of sphere_may_hit, which costs less than the BVH's ray setup (three divisions) and box tests.
+constexpr size_t kFlatSpheres = 8;
+
 template <bool kAnyHit>
 bool trace_spheres(const TraceGeometry& g, Ray& ray, Hit* hit) {
-  return traverse_bvh<kAnyHit>(g.sphere_bvh, ray, [&](uint32_t begin, uint32_t end, Ray& r) {
+  auto test = [&](uint32_t begin, uint32_t end, Ray& r) {
     bool found = false;
     for (uint32_t k = begin; k < end; ++k) {
       const TraceGeometry::Sphere& s = g.spheres[k];
@@ -38,7 +42,9 @@ bool trace_spheres(const TraceGeometry& g, Ray& ray, Hit* hit) {
       }
     }
     return found;
-  });
+  };
+  if (g.spheres.size() <= kFlatSpheres) return test(0, uint32_t(g.spheres.size()), ray);
+  return traverse_bvh<kAnyHit>(g.sphere_bvh, ray, test);
 }
 
 }  // namespace

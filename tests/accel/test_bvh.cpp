@@ -374,6 +374,13 @@ TEST(Bvh, ClosestAndAnyHitEqualBruteForce) {
   expect_matches_brute_force(g, s, 100000, 2, 30);
 }
 
+// A few spheres (at most kFlatSpheres, accel/geometry.cpp) are tested one by one instead of through their tree.
+TEST(Bvh, FewSpheresWithoutTheirTreeEqualBruteForce) {
+  Soup s = mixed_soup(5000, 6, 3);
+  TraceGeometry g = make_trace_geometry(s.tris, s.spheres);
+  expect_matches_brute_force(g, s, 100000, 4, 10);
+}
+
 // REGRESSION TEST for a bug this suite found (src/accel/bvh.h intersect_box): a hit at t must be found when tmax is
 // one float above t. The triangle lies in z = 0, so the root box is flat in z and its slab entry distance
 // (0 - o.z) * inv_dir.z rounds to 1.80722082, two floats above the triangle's t = 1.80722058; a slab test that
