@@ -187,13 +187,18 @@ BENCHMARK(BM_sample_uniform_disk_concentric);
 BENCHMARK(BM_sample_uniform_sphere);
 BENCHMARK(BM_sample_uniform_triangle);
 
-// Spherical rectangle (Urena et al. 2013): the per-shading-point setup plus one sample, as light sampling does it
-// (the rectangle's frame is the light's, made once).
-// Light: a 1 x 1 rectangle in the plane y = 1; shading points below it.
+/// The rectangle light of the spherical-rectangle benchmarks: 1 x 1 in the plane y = 1, the shading points below
+/// it. Its frame is made once, as render/light.cpp keeps it per light.
+RectangleFrame bench_rectangle() {
+  RectangleFrame rect;
+  make_rectangle_frame(vec3(-0.5f, 1.0f, -0.5f), vec3(1, 0, 0), vec3(0, 0, 1), rect);
+  return rect;
+}
+
+// Spherical rectangle (Urena et al. 2013): the per-shading-point setup plus one sample, as light sampling does it.
 void BM_spherical_rectangle(benchmark::State& state) {
   const Batch& d = batch();
-  RectangleFrame rect;  // per light, as render/light.cpp keeps it
-  make_rectangle_frame(vec3(-0.5f, 1.0f, -0.5f), vec3(1, 0, 0), vec3(0, 0, 1), rect);
+  const RectangleFrame rect = bench_rectangle();
   run_batch(state, [&](size_t i) {
     SphericalRectangle sr;
     bool ok = make_spherical_rectangle(d.refs[i], rect, sr);
@@ -209,8 +214,7 @@ BENCHMARK(BM_spherical_rectangle);
 // the setup).
 void BM_spherical_rectangle_setup(benchmark::State& state) {
   const Batch& d = batch();
-  RectangleFrame rect;
-  make_rectangle_frame(vec3(-0.5f, 1.0f, -0.5f), vec3(1, 0, 0), vec3(0, 0, 1), rect);
+  const RectangleFrame rect = bench_rectangle();
   run_batch(state, [&](size_t i) {
     SphericalRectangle sr;
     const bool ok = make_spherical_rectangle(d.refs[i], rect, sr);
@@ -222,8 +226,7 @@ BENCHMARK(BM_spherical_rectangle_setup);
 
 void BM_spherical_rectangle_sample(benchmark::State& state) {
   const Batch& d = batch();
-  RectangleFrame rect;
-  make_rectangle_frame(vec3(-0.5f, 1.0f, -0.5f), vec3(1, 0, 0), vec3(0, 0, 1), rect);
+  const RectangleFrame rect = bench_rectangle();
   std::vector<SphericalRectangle> setups(kCount);
   for (size_t i = 0; i < kCount; ++i) make_spherical_rectangle(d.refs[i], rect, setups[i]);
   run_batch(state, [&](size_t i) {
@@ -235,11 +238,11 @@ void BM_spherical_rectangle_sample(benchmark::State& state) {
 BENCHMARK(BM_spherical_rectangle_sample);
 
 // Ray against sphere (accel/sphere.h, double precision): ray i against a sphere of radius 0.1 at triangle i's
-// centroid, which it is aimed near (even items, mostly hits), or at a neighbour's (odd items, mostly misses).
+// centroid, which it is aimed near (even items, mostly hits), or at its even neighbour's (odd items, mostly misses).
 void BM_intersect_sphere(benchmark::State& state) {
   const Batch& d = batch();
   run_batch(state, [&](size_t i) {
-    const auto& t = d.triangles[i ^ (i & 1) ^ ((i & 1) << 1)];
+    const auto& t = d.triangles[i ^ (i & 1)];
     const float hit_t = intersect_sphere(d.rays[i], (t[0] + t[1] + t[2]) / 3.0f, 0.1f, kInfinity);
     benchmark::DoNotOptimize(hit_t);
     return hit_t < kInfinity;
