@@ -31,10 +31,10 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
-#include <tuple>
 #include <memory>
 #include <sstream>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "app/app.h"
@@ -299,9 +299,11 @@ void print_targets(const EfficiencyTable& table, int max_spp, int repeat) {
     if (defaults == rows.end()) continue;
     std::string best_name;
     double best = 0.0;
-    for (const auto& [key, efficiencies] : rows)
-      if (std::get<2>(key) == max_spp && median(efficiencies) > best)
-        best = median(efficiencies), best_name = std::get<0>(key) + ", " + std::get<1>(key);
+    for (const auto& [key, efficiencies] : rows) {
+      if (std::get<2>(key) != max_spp) continue;
+      const double m = median(efficiencies);
+      if (m > best) best = m, best_name = std::get<0>(key) + ", " + std::get<1>(key);
+    }
     const double ours = median(defaults->second);
     std::printf("%-20s %11.4g %-36s %11.4g %7.3f\n", scene.c_str(), ours, best_name.c_str(), best,
                 best > 0.0 ? ours / best : 0.0);

@@ -23,8 +23,9 @@ void update_bounds(TraceGeometry& g) {
   if (!g.sphere_bvh.nodes.empty()) g.bounds_all.extend(g.sphere_bvh.nodes[0].bounds);
 }
 
-/// Up to this many spheres are tested one after the other, without their BVH: each test starts with the float
-/// culling of sphere_may_hit, which costs less than the BVH's ray setup (three divisions) and box tests.
+/// Up to this many spheres are tested one after the other, without their BVH: for a few spheres the tree's ray
+/// setup (three divisions) and box tests cost more than the sphere tests they skip (intersect_sphere returns most
+/// misses before its first division). The tree is still built: it gives the bounds and serves refits.
 constexpr size_t kFlatSpheres = 8;
 
 template <bool kAnyHit>
