@@ -492,6 +492,8 @@ int main(int argc, char** argv) {
     if (convergence == "only") break;
     if (!only.empty() && only.find("," + name + ",") == std::string::npos) continue;
     RenderScene rs = make_render_scene(scene);
+    std::printf("# %s: automatic light sampling at the first vertex: min spread %g (pilot gain %.3g)\n", name.c_str(),
+                rs.auto_first_spread, rs.auto_pilot_gain);
     RenderParams base;
     base.width = base.height = size;
     base.max_depth = max_depth;

@@ -64,7 +64,7 @@ ParseOutcome parse_command_line(int argc, const char* const* argv) {
   app.add_option("--max-depth", o.render.max_depth, "Maximum path depth, pbrt convention (default 64)");
   app.add_option("--integrator", integrator, "auto (default: nee; mis with --light-sampling area), mis, nee or bsdf");
   app.add_option("--light-sampling", light_sampling,
-                 "auto (default: solid angle where it pays, per point), solid-angle or area");
+                 "auto (default: solid angle where it pays, per scene and point), solid-angle or area");
   app.add_option("--sampler", sampler, "sobol (default: Owen-scrambled Sobol) or independent");
   app.add_option("--stats-json", o.stats_json, "Write run statistics as JSON");
   app.add_option("--reference", o.reference, "Reference image (.pfm/.exr) for --error-csv; viewer: true relMSE and the reference-error display");

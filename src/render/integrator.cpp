@@ -8,17 +8,19 @@ namespace {
 
 /// How a non-delta vertex samples lights: the requested mode and, for automatic, the area-density spread from which
 /// a rectangle is sampled by solid angle (light.h, kAutoMinSpread). The first non-delta vertex of a path (the
-/// surface the camera sees, directly or through mirrors and glass) takes kAutoMinSpread; deeper vertices ask for a
-/// larger spread. Why: the first vertex's direct light reaches the image unattenuated, so the lower variance of
-/// solid-angle sampling shows; deeper vertices are weighted by a path throughput whose own variance hides most of
-/// the difference, and there the cheaper area sampling wins per second except close to a light (bench-error,
-/// issue 11). The choice depends only on the path so far and light_pdf is asked with the same one: unbiased.
+/// surface the camera sees, directly or through mirrors and glass) takes the scene's choice,
+/// RenderScene::auto_first_spread (kAutoMinSpread where the pilot of render/auto_light_sampling.h finds that it
+/// pays, else kAutoMinSpreadDeep); deeper vertices ask for the larger spread. Why: the first vertex's direct light
+/// reaches the image unattenuated, so where it is much of the image the lower variance of solid-angle sampling
+/// shows; deeper vertices are weighted by a path throughput whose own variance hides most of the difference, and
+/// there the cheaper area sampling wins per second except close to a light (bench-error, issue 11). The choice
+/// depends only on the scene and the path so far, and light_pdf is asked with the same one: unbiased.
 struct VertexLightSampling {
   LightSampling mode = LightSampling::area;
   float min_spread = kAutoMinSpread;
 
-  static VertexLightSampling at(LightSampling requested, bool first_non_delta) {
-    return {requested, first_non_delta ? kAutoMinSpread : kAutoMinSpreadDeep};
+  static VertexLightSampling at(LightSampling requested, bool first_non_delta, float first_spread) {
+    return {requested, first_non_delta ? first_spread : kAutoMinSpreadDeep};
   }
 };
 
@@ -92,8 +94,8 @@ vec3 direct_light(const RenderScene& scene, const RenderParams& params, VertexLi
 /// mirrors or glass every vertex is diffuse, so the delta-BSDF branches are not compiled in; without a background
 /// escaping paths add nothing.
 template <bool kDelta, bool kBackground>
-vec3 trace_path_impl(const RenderScene& scene, const RenderParams& params, Ray ray, PixelSampler& sampler,
-                     RenderCounters& c) {
+vec3 trace_path_impl(const RenderScene& scene, const RenderParams& params, float first_spread, Ray ray,
+                     PixelSampler& sampler, RenderCounters& c) {
   vec3 radiance(0.0f);
   vec3 beta(1.0f);
   float eta_scale = 1.0f;
@@ -143,7 +145,7 @@ vec3 trace_path_impl(const RenderScene& scene, const RenderParams& params, Ray r
 
     const VertexSamples vs = VertexSamples::draw(sampler);
     const bool delta_vertex = kDelta && is_delta(m);
-    const VertexLightSampling mode = VertexLightSampling::at(params.light_sampling, first_non_delta);
+    const VertexLightSampling mode = VertexLightSampling::at(params.light_sampling, first_non_delta, first_spread);
     if (!delta_vertex) first_non_delta = false;
     if (sample_lights) {
       if (delta_vertex) ++c.light_sampling_skipped_specular;
@@ -185,18 +187,23 @@ IntegratorKind resolve_integrator(IntegratorKind kind, LightSampling light_sampl
   return light_sampling == LightSampling::area ? IntegratorKind::mis : IntegratorKind::nee;
 }
 
-vec3 trace_path(const RenderScene& scene, const RenderParams& params_in, Ray ray, PixelSampler& sampler,
+vec3 trace_path(const RenderScene& scene, const RenderParams& params, Ray ray, PixelSampler& sampler,
                 RenderCounters& c) {
+  return trace_path(scene, params, scene.auto_first_spread, ray, sampler, c);
+}
+
+vec3 trace_path(const RenderScene& scene, const RenderParams& params_in, float first_spread, Ray ray,
+                PixelSampler& sampler, RenderCounters& c) {
   RenderParams params = params_in;
   params.integrator = resolve_integrator(params.integrator, params.light_sampling);
   const bool delta = scene.features.has_delta || params.force_generic_kernel;
   const bool background = scene.features.has_background || params.force_generic_kernel;
   if (delta) {
-    return background ? trace_path_impl<true, true>(scene, params, ray, sampler, c)
-                      : trace_path_impl<true, false>(scene, params, ray, sampler, c);
+    return background ? trace_path_impl<true, true>(scene, params, first_spread, ray, sampler, c)
+                      : trace_path_impl<true, false>(scene, params, first_spread, ray, sampler, c);
   }
-  return background ? trace_path_impl<false, true>(scene, params, ray, sampler, c)
-                    : trace_path_impl<false, false>(scene, params, ray, sampler, c);
+  return background ? trace_path_impl<false, true>(scene, params, first_spread, ray, sampler, c)
+                    : trace_path_impl<false, false>(scene, params, first_spread, ray, sampler, c);
 }
 
 const char* kernel_name(const RenderScene& scene, const RenderParams& params) {

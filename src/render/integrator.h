@@ -12,6 +12,10 @@ namespace pt {
 /// Radiance arriving along `ray` (from the camera). Counters are updated; the caller drops non-finite results.
 vec3 trace_path(const RenderScene& scene, const RenderParams& params, Ray ray, PixelSampler& sampler,
                 RenderCounters& counters);
+/// The same with the first non-delta vertex's automatic spread threshold given instead of the scene's
+/// (RenderScene::auto_first_spread): what the pilot of render/auto_light_sampling.h compares.
+vec3 trace_path(const RenderScene& scene, const RenderParams& params, float first_vertex_spread, Ray ray,
+                PixelSampler& sampler, RenderCounters& counters);
 
 /// The integrator `kind` stands for: itself, or for automatic, nee unless lights are sampled by area. Why: every
 /// light has a solid-angle sampling (spheres by their cone, rectangles, parallelograms and triangles by spherical

@@ -14,7 +14,8 @@ namespace pt {
 /// How a light point is sampled. solid_angle: spherical rectangles, parallelograms (two spherical triangles) and
 /// triangles wherever they are usable; area: uniform by area;
 /// automatic (the default): solid angle only where area sampling's density is far enough from it for the better
-/// distribution to pay for its cost, else area (kAutoMinSpread below; integrator.cpp VertexLightSampling).
+/// distribution to pay for its cost, else area (kAutoMinSpread below; integrator.cpp VertexLightSampling; per scene at
+/// the first vertex, render/auto_light_sampling.h).
 enum class LightSampling : int { area = 0, solid_angle = 1, automatic = 2 };
 
 enum class LightKind : uint8_t { rect, triangle, sphere };
@@ -62,8 +63,10 @@ inline constexpr float kMaxSolidAngle = 6.22f;
 /// The integrator asks for more at deeper path vertices (integrator.cpp, VertexLightSampling).
 /// Both thresholds were chosen with bench-error (issue 11). At the first vertex 1.5: on the lit plane it keeps all
 /// of solid angle's gain (rel_mse 6.81e-7 at 64 spp, as solid angle everywhere; 2 left 7.60e-7, a ratio the time
-/// saved did not make up once roulette stopped hiding direct-light noise, docs/BENCHMARKS.md "Eighth round"), while
-/// on the Cornell scenes it leaves area sampling almost everywhere (their rel_mse is unchanged, their time up 0-2.5%).
+/// saved did not make up once roulette stopped hiding direct-light noise, docs/BENCHMARKS.md "Eighth round"). On the
+/// Cornell scenes it sends most first vertices to solid angle for no visible gain (rel_mse the same to three digits)
+/// at 6-8% of the frame time, so the first vertex takes it only where a per-scene pilot finds that it pays
+/// (render/auto_light_sampling.h); elsewhere the first vertex asks for kAutoMinSpreadDeep too.
 inline constexpr float kAutoMinSpread = 1.5f;
 /// The spread from which deeper path vertices (behind a diffuse bounce) take solid angle: only close to a light.
 inline constexpr float kAutoMinSpreadDeep = 8.0f;

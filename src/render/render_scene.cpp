@@ -1,5 +1,7 @@
 #include "render/render_scene.h"
 
+#include "render/auto_light_sampling.h"
+
 namespace pt {
 
 namespace {
@@ -193,7 +195,7 @@ std::shared_ptr<const RenderGeometry> make_render_geometry(const Scene& scene, c
   return geo;
 }
 
-RenderScene make_render_scene(const Scene& scene, std::shared_ptr<const RenderGeometry> geo) {
+RenderScene make_render_scene(const Scene& scene, std::shared_ptr<const RenderGeometry> geo, AutoPilot pilot) {
   RenderScene rs;
   rs.geo = std::move(geo);
   rs.materials = scene.materials;
@@ -203,6 +205,8 @@ RenderScene make_render_scene(const Scene& scene, std::shared_ptr<const RenderGe
   rs.camera.eye -= rs.geo->origin;
   rs.camera.target -= rs.geo->origin;
   rebuild_lights(rs);
+  if (pilot == AutoPilot::now) update_auto_light_sampling(rs);
+  else rs.auto_pilot_pending = true;
   return rs;
 }
 

@@ -2,6 +2,7 @@
 /// What the integrator traces: the scene flattened into triangles and spheres behind one BVH, per-primitive
 /// material and light ids, the light set, and feature flags that let the hot loop skip what a scene lacks.
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <vector>
 
@@ -75,6 +76,18 @@ struct RenderScene {
   vec3 background{0.0f};
   SceneFeatures features;
   Camera camera;  ///< relative to geo->origin, like the geometry
+  /// LightSampling::automatic's spread threshold at a path's first non-delta vertex (light.h), for this scene and
+  /// camera: kAutoMinSpread where the pilot of render/auto_light_sampling.h finds that solid-angle sampling there
+  /// pays for its time, else kAutoMinSpreadDeep. make_render_scene sets it; so must whatever changes the camera,
+  /// lights or materials of a copy (update_auto_light_sampling), or it marks the copy auto_pilot_pending.
+  float auto_first_spread = kAutoMinSpread;
+  /// auto_first_spread is stale: the pilot is left to RenderSession, which runs it on its driver thread after an
+  /// epoch's preview and before its first kept frame, so the viewer's edits do not wait for it on the UI thread
+  /// (1.4-3 ms). Renderer and trace_path never run it: give them scenes where this is false.
+  bool auto_pilot_pending = false;
+  /// The pilot's estimate behind that choice: the share of the image's variance that solid-angle sampling at the
+  /// first vertex removes. NaN when nothing was measured (no light whose sampling the choice affects).
+  float auto_pilot_gain = std::numeric_limits<float>::quiet_NaN();
 
   const TraceGeometry& trace() const { return geo->trace; }
   uint32_t triangle_count() const { return geo->triangle_count(); }
@@ -83,9 +96,14 @@ struct RenderScene {
 /// Flattens `scene` and builds the BVH. The scene should be finalized (it has a camera).
 RenderScene make_render_scene(const Scene& scene, const BvhBuildOptions& bvh_options = {});
 
+/// When make_render_scene runs the pilot of LightSampling::automatic (render/auto_light_sampling.h): now, or
+/// deferred to the RenderSession that renders the scene (RenderScene::auto_pilot_pending; the viewer's edits).
+enum class AutoPilot { now, deferred };
+
 /// A render scene over existing geometry with the materials, background and camera of `scene` (whose shapes
 /// must be those `geo` was built from): a material or camera edit costs no BVH rebuild.
-RenderScene make_render_scene(const Scene& scene, std::shared_ptr<const RenderGeometry> geo);
+RenderScene make_render_scene(const Scene& scene, std::shared_ptr<const RenderGeometry> geo,
+                              AutoPilot pilot = AutoPilot::now);
 
 /// Geometry with the shapes of `scene` moved (the same triangles and spheres as when `geo` was built: only
 /// positions, quads and sphere radii changed), refitted, not rebuilt: what an interactive light edit costs. A scene

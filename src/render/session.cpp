@@ -2,6 +2,8 @@
 
 #include <chrono>
 
+#include "render/auto_light_sampling.h"
+
 namespace pt {
 
 RenderSession::RenderSession(int threads) {
@@ -165,6 +167,14 @@ void RenderSession::drive(std::stop_token stop) {
       need_preview = false;
       publish(small.resolve(), true, p.width, p.height);
       continue;
+    }
+    if (scene->auto_pilot_pending) {
+      // The viewer's edit left LightSampling::automatic's pilot to this thread (RenderScene::auto_pilot_pending):
+      // run after the preview, it is not on the way to the edit's first look.
+      auto piloted = std::make_shared<RenderScene>(*scene);
+      update_auto_light_sampling(*piloted);
+      scene = std::move(piloted);
+      if (epoch_ != current) continue;
     }
     auto t0 = Clock::now();
     bool complete = film.render_frame(*renderer, *scene, params, frame_counters, &cancel_);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "render/auto_light_sampling.h"
 #include "render/integrator.h"
 #include "render/names.h"
 #include "render/trace_stats_json.h"
@@ -39,6 +40,14 @@ nlohmann::json make_stats_json(const RenderParams& params, const Scene& scene, c
   j["triangles"] = rs.triangle_count();
   j["spheres"] = rs.geo->spheres.size();
   j["lights"] = rs.lights.lights.size();
+  // LightSampling::automatic's choice for this scene and camera (render/auto_light_sampling.h); a viewer's scene
+  // may have left its pilot to the render session.
+  const AutoLightSamplingChoice choice =
+      rs.auto_pilot_pending ? choose_auto_light_sampling(rs)
+                            : AutoLightSamplingChoice{rs.auto_first_spread, rs.auto_pilot_gain};
+  j["auto_first_vertex"] = {{"min_spread", choice.first_spread},
+                            {"pilot_gain", std::isfinite(choice.gain) ? nlohmann::json(choice.gain)
+                                                                      : nlohmann::json(nullptr)}};
   j["rays_by_kind"] = {{"camera", c.camera_rays}, {"bounce", c.bounce_rays}, {"shadow", c.shadow_rays}};
   j["bvh"] = trace_stats_json(rs.trace());
   j["skipped"] = nlohmann::json::object();

@@ -47,7 +47,7 @@ void ViewerState::init(Scene s, const RenderParams& p, const DisplaySettings& d,
   scene = std::move(s);
   loaded_materials = scene.materials;
   lights = find_scene_lights(scene);
-  render_scene = std::make_shared<RenderScene>(make_render_scene(scene, geo));
+  render_scene = std::make_shared<RenderScene>(make_render_scene(scene, geo, AutoPilot::deferred));
   if (threads >= 0) {
     session = std::make_unique<RenderSession>(threads);
     session->set_adaptive(adaptive);
@@ -83,6 +83,7 @@ Tier ViewerState::commit(Tier tier) {
       rs->camera = scene.camera.value_or(Camera{});
       rs->camera.eye -= geo->origin;
       rs->camera.target -= geo->origin;
+      rs->auto_pilot_pending = true;  // the pilot looks through the camera; the session runs it
       render_scene = std::move(rs);
       break;
     }
@@ -92,7 +93,7 @@ Tier ViewerState::commit(Tier tier) {
       [[fallthrough]];
     case Tier::material:
     case Tier::rebuild: {
-      render_scene = std::make_shared<RenderScene>(make_render_scene(scene, geo));
+      render_scene = std::make_shared<RenderScene>(make_render_scene(scene, geo, AutoPilot::deferred));
       std::vector<SceneLight> found = find_scene_lights(scene);
       if (tier == Tier::rebuild || found.size() != lights.size()) {
         lights = std::move(found);

@@ -224,13 +224,19 @@ TEST_P(PolygonIrradiance, DirectLightingMatchesLambertsFormula) {
         params.light_sampling = mode;
         params.max_depth = 1;  // emission seen directly + direct lighting at the first hit
         Ray ray{x + vec3(0.0f, 0.5f, 0.0f), vec3(0, -1, 0), kInfinity};
-        for (SamplerKind sampler : {SamplerKind::independent, SamplerKind::sobol}) {
-          params.sampler = sampler;
-          // For Sobol the sample variance overstates the error: the bound stays valid, only looser.
-          Estimate e = estimate(setup.rs, params, ray, 60000, 11);
-          EXPECT_NEAR(e.mean, expected, 5.0 * e.stderr_ + 1e-4 * expected)
-              << GetParam() << " " << config_name(k, mode) << " sampler " << int(sampler) << " at x=" << x.x << ","
-              << x.z;
+        // automatic under both of its per-scene choices at the first vertex (render/auto_light_sampling.h): MIS
+        // must weigh with the threshold the light sample was drawn with.
+        for (float first_spread : {kAutoMinSpread, kAutoMinSpreadDeep}) {
+          if (mode != LightSampling::automatic && first_spread != kAutoMinSpread) continue;
+          setup.rs.auto_first_spread = first_spread;
+          for (SamplerKind sampler : {SamplerKind::independent, SamplerKind::sobol}) {
+            params.sampler = sampler;
+            // For Sobol the sample variance overstates the error: the bound stays valid, only looser.
+            Estimate e = estimate(setup.rs, params, ray, 60000, 11);
+            EXPECT_NEAR(e.mean, expected, 5.0 * e.stderr_ + 1e-4 * expected)
+                << GetParam() << " " << config_name(k, mode) << " first spread " << first_spread << " sampler "
+                << int(sampler) << " at x=" << x.x << "," << x.z;
+          }
         }
       }
   }

@@ -8,6 +8,7 @@
 #include <mutex>
 #include <thread>
 
+#include "render/auto_light_sampling.h"
 #include "render/session.h"
 #include "scene_builders.h"
 
@@ -50,6 +51,30 @@ TEST(Session, FinalStateMatchesADirectRender) {
   Image direct = film.resolve();
   EXPECT_EQ(f.image.rgb, direct.rgb);
   EXPECT_EQ(f.counters.samples, c.samples);
+}
+
+TEST(Session, RunsAPendingAutoLightSamplingPilotBeforeItsFirstKeptFrame) {
+  // The viewer's edits leave the pilot to the session (RenderScene::auto_pilot_pending). A scene whose stored choice
+  // is the wrong one must still render, frame for frame, what the piloted scene renders directly.
+  const RenderScene piloted = make_render_scene(test::make_test_cornell());
+  auto pending = std::make_shared<RenderScene>(piloted);
+  pending->auto_first_spread = piloted.auto_first_spread == kAutoMinSpread ? kAutoMinSpreadDeep : kAutoMinSpread;
+  pending->auto_pilot_pending = true;
+  RenderParams p;
+  p.width = 24;
+  p.height = 16;
+  p.threads = 2;
+  Renderer r(1);
+  Film stale(p.width, p.height), right(p.width, p.height);
+  RenderCounters c;
+  for (uint32_t k = 0; k < 3; ++k) r.render_frame(*pending, p, stale, k, c), r.render_frame(piloted, p, right, k, c);
+  ASSERT_NE(stale.resolve().rgb, right.resolve().rgb) << "the choices must differ here for the test to tell";
+  RenderSession session(2);
+  session.set_preview_divisor(4);
+  const uint64_t epoch = session.restart(pending, p);
+  session.set_target_spp(3);
+  const SessionFrame f = wait_for_frames(session, epoch, 3);
+  EXPECT_EQ(f.image.rgb, right.resolve().rgb);
 }
 
 /// The mean after `frames` frames rendered directly, the image a session of the same state must publish.

@@ -12,6 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "render/auto_light_sampling.h"
 #include "scene/builtin_assets.h"
 #include "scene/load.h"
 #include "view/display_mode.h"
@@ -86,6 +87,15 @@ TEST(Tiers, EveryEditKindTakesItsTierAndCostsWhatItShould) {
   EXPECT_EQ(st.geo, geo0) << "a camera edit keeps the geometry";
   EXPECT_NE(st.render_scene, rs_before);
   EXPECT_FLOAT_EQ(st.render_scene->camera.eye.x + st.geo->origin.x, cam.eye.x);
+  // The pilot of automatic light sampling looks through the camera (render/auto_light_sampling.h): the edit leaves
+  // it to the render session (not the UI thread), which then chooses as the offload hosts, making the scene afresh,
+  // do.
+  EXPECT_TRUE(st.render_scene->auto_pilot_pending);
+  const RenderScene fresh = make_render_scene(st.scene, st.geo);
+  EXPECT_FALSE(fresh.auto_pilot_pending);
+  const AutoLightSamplingChoice piloted = choose_auto_light_sampling(*st.render_scene);
+  EXPECT_EQ(piloted.gain, fresh.auto_pilot_gain);
+  EXPECT_EQ(piloted.first_spread, fresh.auto_first_spread);
 
   RenderParams p = st.params;
   EXPECT_EQ(st.apply(RenderParamsEdit{p}), Tier::none) << "unchanged parameters";
