@@ -112,6 +112,9 @@ void RenderSession::drive(std::stop_token stop) {
     published_.spp_map = maps ? spp_image(film.film()) : Image();
     if (publish_counts_ && !preview) published_.count = film.film().count;
     else published_.count.clear();
+    const float unknown = std::numeric_limits<float>::quiet_NaN();
+    published_.auto_first_spread = scene->auto_pilot_pending ? unknown : scene->auto_first_spread;
+    published_.auto_pilot_gain = scene->auto_pilot_pending ? unknown : scene->auto_pilot_gain;
   };
   while (!stop.stop_requested()) {
     {

@@ -5,6 +5,7 @@
 /// joins the driver thread.
 #include <atomic>
 #include <condition_variable>
+#include <limits>
 #include <memory>
 #include <mutex>
 #include <thread>
@@ -34,6 +35,10 @@ struct SessionFrame {
   Image rel_error;  ///< per-pixel relative standard error; only with set_publish_maps(true), else empty
   Image spp_map;    ///< samples per pixel; only with set_publish_maps(true), else empty
   std::vector<uint32_t> count;  ///< finite samples per pixel (Film::count); only with set_publish_counts(true)
+  /// LightSampling::automatic's choice for the frame's scene and camera (RenderScene::auto_first_spread and
+  /// auto_pilot_gain); NaN in a preview whose pilot has not run yet.
+  float auto_first_spread = std::numeric_limits<float>::quiet_NaN();
+  float auto_pilot_gain = std::numeric_limits<float>::quiet_NaN();
 };
 
 class RenderSession {

@@ -319,6 +319,14 @@ void stats_panel(const ViewerState& st) {
   convergence_stats(st);
   compare_stats(st);
   ImGui::Text("non-finite samples %llu", (unsigned long long)f.counters.nonfinite_samples);
+  if (st.params.light_sampling == LightSampling::automatic && std::isfinite(f.auto_first_spread)) {
+    // What automatic light sampling chose for this scene and camera (render/auto_light_sampling.h).
+    if (!std::isfinite(f.auto_pilot_gain))
+      ImGui::TextDisabled("auto light sampling: no planar light to choose for");
+    else
+      ImGui::TextWrapped("auto light sampling: first vertex %s (pilot gain %.2g)",
+                  f.auto_first_spread <= kAutoMinSpread ? "by solid angle" : "by area", f.auto_pilot_gain);
+  }
   if (!st.restart_latency_ms.empty())
     ImGui::Text("restart latency p50 %.1f ms  p95 %.1f ms", percentile(st.restart_latency_ms, 0.5),
                 percentile(st.restart_latency_ms, 0.95));

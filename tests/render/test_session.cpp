@@ -75,6 +75,9 @@ TEST(Session, RunsAPendingAutoLightSamplingPilotBeforeItsFirstKeptFrame) {
   session.set_target_spp(3);
   const SessionFrame f = wait_for_frames(session, epoch, 3);
   EXPECT_EQ(f.image.rgb, right.resolve().rgb);
+  // The frame tells the viewer what was chosen (its Stats panel).
+  EXPECT_EQ(f.auto_first_spread, piloted.auto_first_spread);
+  EXPECT_EQ(f.auto_pilot_gain, piloted.auto_pilot_gain);
 }
 
 /// The mean after `frames` frames rendered directly, the image a session of the same state must publish.
