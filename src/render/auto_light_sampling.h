@@ -24,9 +24,10 @@ namespace pt {
 /// The share of the image's variance that solid-angle sampling at the first vertex must remove to be chosen. Its
 /// cost where most first vertices use it is 6-8% of the frame time (bench-error's Cornell scenes), so by cost alone
 /// the break-even gain is about 0.07. But the pilot's 16 samples per pixel under-count heavy-tailed indirect light
-/// (caustics, bright interreflections), which inflates its gain: on the Cornell scenes it reads 0.007-0.07 over
-/// pilot seeds where full renders measure 0.002-0.003, while on the lit plane, all direct light, it reads 0.94 and
-/// full renders 0.9. 0.2 keeps the first kind out with a margin of three and the second in with one of four.
+/// (through glass, off mirrors), which inflates its gain: over pilot seeds it reads 0.007-0.067 on the Cornell
+/// scenes, where full renders measure 0.001-0.016 (10-60x less on the glass and mirror boxes), and 0.94 on the lit
+/// plane, all direct light, where full renders measure 0.93. 0.2 keeps the first kind out with a margin of three and
+/// the second in with one of four (docs/BENCHMARKS.md, "Tenth round").
 inline constexpr float kAutoMinGain = 0.2f;
 
 struct AutoLightSamplingChoice {
