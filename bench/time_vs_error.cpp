@@ -42,6 +42,7 @@
 #include "render/analytic.h"
 #include "render/adaptive.h"
 #include "render/convergence.h"
+#include "render/image_error.h"
 #include "render/renderer.h"
 #include "scene/load.h"
 
@@ -192,13 +193,13 @@ struct Reference {
   double noise = 0.0;
 };
 
-/// Mean over pixels and channels of (a - b)^2 / 4 / (r^2 + 0.01): for two independent renders a and b of equal
+/// Mean over pixels and channels of (a - b)^2 / 4 / (r^2 + kRelMseFloor): for two independent renders a and b of equal
 /// samples, the variance of their mean in rel_mse units (reference r).
 double reference_noise(const Image& a, const Image& b, const Image& r) {
   double sum = 0.0;
   for (size_t i = 0; i < r.rgb.size(); ++i) {
     double d = double(a.rgb[i]) - double(b.rgb[i]), rr = double(r.rgb[i]);
-    sum += d * d / 4.0 / (rr * rr + 0.01);
+    sum += d * d / 4.0 / (rr * rr + kRelMseFloor);
   }
   return r.rgb.empty() ? 0.0 : sum / double(r.rgb.size());
 }

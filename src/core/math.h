@@ -34,6 +34,8 @@ inline float min_component(vec3 v) { return std::min(v.x, std::min(v.y, v.z)); }
 inline int max_dimension(vec3 v) { return v.x > v.y ? (v.x > v.z ? 0 : 2) : (v.y > v.z ? 1 : 2); }
 /// Rec. 709 luminance, used for light power and Russian roulette.
 inline float luminance(vec3 c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
+/// The same in double, for the film's sums (the adaptive sampler's per-pixel error).
+inline double luminance(dvec3 c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }
 inline bool is_finite(vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 inline bool is_black(vec3 v) { return v.x == 0.0f && v.y == 0.0f && v.z == 0.0f; }
 /// Whether two edges meet at a right angle, to a relative 1e-5 (a quad light that passes is a rectangle: spherical

@@ -24,10 +24,10 @@ namespace pt {
 /// The share of the image's variance that solid-angle sampling at the first vertex must remove to be chosen. Its
 /// cost where most first vertices use it is 6-8% of the frame time (bench-error's Cornell scenes), so by cost alone
 /// the break-even gain is about 0.07. But the pilot's 16 samples per pixel under-count heavy-tailed indirect light
-/// (through glass, off mirrors), which inflates its gain: over pilot seeds it reads 0.007-0.067 on the Cornell
-/// scenes, where full renders measure 0.001-0.016 (10-60x less on the glass and mirror boxes), and 0.94 on the lit
-/// plane, all direct light, where full renders measure 0.93. 0.2 keeps the first kind out with a margin of three and
-/// the second in with one of four (docs/BENCHMARKS.md, "Tenth round").
+/// (through glass, off mirrors), which inflates its gain: over five pilot seeds it reads 0.0015-0.047 on the Cornell
+/// scenes, where full renders measure 0.001-0.016, and 0.935-0.947 on the lit plane, all direct light, where full
+/// renders measure 0.93. 0.2 keeps the first kind out with a margin of four and the second in with one of 4.7
+/// (docs/BENCHMARKS.md, "Tenth round" and "Eleventh round").
 inline constexpr float kAutoMinGain = 0.2f;
 
 struct AutoLightSamplingChoice {

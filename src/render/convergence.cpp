@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "render/image_error.h"
+
 namespace pt {
 
 namespace {
@@ -28,8 +30,6 @@ dvec3 neighbour_mean(const Film& film, size_t p) {
     }
   return k ? total / double(k) : dvec3(0.0);
 }
-
-double lum(dvec3 c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }
 
 }  // namespace
 
@@ -62,8 +62,8 @@ double pixel_rel_error(const Film& film, size_t p) {
   if (na == 0 || nb == 0) return std::numeric_limits<double>::infinity();
   const dvec3 s(film.sum[3 * p], film.sum[3 * p + 1], film.sum[3 * p + 2]);
   const dvec3 sa(film.half_sum[3 * p], film.half_sum[3 * p + 1], film.half_sum[3 * p + 2]);
-  const double la = lum(sa) / na, lb = lum(s - sa) / nb, d = la - lb, m = std::min(la, lb);
-  return std::sqrt(d * d * (na * nb / (n * n)) / (m * m + 0.01));
+  const double la = luminance(sa) / na, lb = luminance(s - sa) / nb, d = la - lb, m = std::min(la, lb);
+  return std::sqrt(d * d * (na * nb / (n * n)) / (m * m + kRelMseFloor));
 }
 
 double est_rel_mse(const Film& film) {
@@ -73,7 +73,7 @@ double est_rel_mse(const Film& film) {
     PixelEstimate e;
     if (!pixel_estimate(film, p, e)) continue;
     const dvec3 v = e.var_mean, m = e.scale;
-    total += v.x / (m.x * m.x + 0.01) + v.y / (m.y * m.y + 0.01) + v.z / (m.z * m.z + 0.01);
+    total += v.x / (m.x * m.x + kRelMseFloor) + v.y / (m.y * m.y + kRelMseFloor) + v.z / (m.z * m.z + kRelMseFloor);
     ++pixels;
   }
   return pixels ? total / (3.0 * double(pixels)) : std::numeric_limits<double>::quiet_NaN();

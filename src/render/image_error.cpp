@@ -13,7 +13,7 @@ ImageError compare_images(const Image& image, const Image& reference) {
     double r = reference.rgb[i];
     double d = double(image.rgb[i]) - r;
     se += d * d;
-    rel += d * d / (r * r + 0.01);
+    rel += d * d / (r * r + kRelMseFloor);
   }
   e.rmse = std::sqrt(se / double(n));
   e.rel_mse = rel / double(n);
