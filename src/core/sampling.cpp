@@ -313,7 +313,7 @@ DiscreteDistribution::DiscreteDistribution(std::span<const float> weights) {
   cdf[n] = 1.0f;
 }
 
-size_t DiscreteDistribution::sample(float u, float* pmf_out, float* u_remapped) const {
+size_t DiscreteDistribution::search(float u, float* pmf_out, float* u_remapped) const {
   // The last index whose cdf is <= u, skipping zero-probability buckets.
   size_t i = size_t(std::upper_bound(cdf.begin(), cdf.end(), u) - cdf.begin());
   i = std::clamp<size_t>(i, 1, pmf_table.size()) - 1;

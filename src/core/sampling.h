@@ -104,7 +104,16 @@ struct DiscreteDistribution {
   size_t size() const { return pmf_table.size(); }
   float pmf(size_t i) const { return pmf_table[i]; }
   /// Index for u in [0,1). Optionally returns its pmf and u remapped to [0,1) within the chosen bucket (for reuse).
-  size_t sample(float u, float* pmf_out = nullptr, float* u_remapped = nullptr) const;
+  /// A single bucket (a scene with one light, the common case) is answered inline, without the search.
+  size_t sample(float u, float* pmf_out = nullptr, float* u_remapped = nullptr) const {
+    if (pmf_table.size() != 1) return search(u, pmf_out, u_remapped);
+    if (pmf_out) *pmf_out = pmf_table[0];
+    if (u_remapped) *u_remapped = std::clamp(u, 0.0f, kOneMinusEpsilon);
+    return 0;
+  }
+
+ private:
+  size_t search(float u, float* pmf_out, float* u_remapped) const;
 };
 
 }  // namespace pt

@@ -21,6 +21,7 @@ Light make_rect_light(vec3 corner, vec3 edge1, vec3 edge2, vec3 emission) {
     l.inv_len2 = vec2(1.0f / (l1 * l1), 1.0f / (l2 * l2));
     l.rectangular = make_rectangle_frame(corner, edge1, edge2, l.rect_frame);
   }
+  l.point_magnitude = glm::abs(l.p0) + glm::abs(l.e1) + glm::abs(l.e2);
   l.emission = emission;
   return l;
 }
@@ -35,6 +36,7 @@ Light make_triangle_light(vec3 p0, vec3 p1, vec3 p2, vec3 emission) {
   float len = glm::length(c);
   l.area = 0.5f * len;
   l.n = len > 0.0f ? c / len : vec3(0, 0, 1);
+  l.point_magnitude = glm::abs(l.p0) + glm::abs(l.e1) + glm::abs(l.e2);
   l.emission = emission;
   return l;
 }
@@ -173,9 +175,7 @@ bool planar_faces(const Light& light, vec3 ref) {
 
 /// The bound on a point built from the light's corner and edges (pbrt-v4's error bounds, section 6.8): `ops`
 /// rounded operations on inputs of these magnitudes.
-vec3 planar_point_error(const Light& light, int ops) {
-  return gamma_bound(ops) * (glm::abs(light.p0) + glm::abs(light.e1) + glm::abs(light.e2));
-}
+vec3 planar_point_error(const Light& light, int ops) { return gamma_bound(ops) * light.point_magnitude; }
 
 /// A sample `p` drawn by a spherical rectangle or triangle of the given solid angle: density 1 / solid angle.
 bool finish_spherical(const Light& light, vec3 ref, vec3 p, float solid_angle, LightSample& out) {

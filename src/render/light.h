@@ -31,6 +31,9 @@ struct Light {
   bool rectangular = false;  ///< rect with orthogonal edges: a spherical rectangle (else two spherical triangles)
   vec2 inv_len2{0.0f};       ///< rectangular: 1 / |e1|^2, 1 / |e2|^2 (for LightSampling::automatic's test)
   RectangleFrame rect_frame;  ///< rectangular: what spherical rectangles need of the light, computed once
+  /// Planar lights: |p0| + |e1| + |e2| per axis, the magnitude a sampled point's rounding error scales with
+  /// (light.cpp, planar_point_error). Computed once: per sample it was nine absolute values and six additions.
+  vec3 point_magnitude{0.0f};
   vec3 emission{0.0f};
 };
 

@@ -266,6 +266,21 @@ TEST(Sampling, DiscreteDistributionFollowsWeights) {
   EXPECT_EQ(z.sample(kOneMinusEpsilon), 3u);
 }
 
+TEST(Sampling, DiscreteDistributionOfOneEntryIsCertainAndKeepsU) {
+  // The inline single-bucket path (one light): index 0 with pmf 1, and u itself as the remapped number, whatever the
+  // weight (zero weights are uniform, so a lone zero-weight entry is certain too).
+  for (float w : {2.5f, 0.0f}) {
+    DiscreteDistribution d(std::vector<float>{w});
+    ASSERT_EQ(d.size(), 1u);
+    for (float u : {0.0f, 0.3f, 0.999f, kOneMinusEpsilon}) {
+      float pmf = -1.0f, ur = -1.0f;
+      EXPECT_EQ(d.sample(u, &pmf, &ur), 0u);
+      EXPECT_EQ(pmf, 1.0f);
+      EXPECT_EQ(ur, u);
+    }
+  }
+}
+
 TEST(Frame, OrthonormalEverywhereIncludingMinusZ) {
   Pcg32 rng(3, 3);
   std::vector<vec3> normals = {vec3(0, 0, -1), vec3(0, 0, 1), glm::normalize(vec3(1e-7f, 0, -1)),

@@ -378,6 +378,36 @@ TEST(LightSampling, AutomaticTakesSolidAngleWhereTheAreaDensitySpreads) {
     check_automatic_choice(l);
 }
 
+TEST(LightSampling, PlanarSamplesBoundTheirDistanceFromTheLightsPlane) {
+  // A sampled point is rounded off the light's plane; the shadow ray's end is offset by its p_error, so that bound
+  // must cover the rounding (else the shadow ray may start behind the light and hit it). Far from the origin a point
+  // is almost never exactly on the plane, so a bound of zero, or one built from the wrong magnitudes, fails here.
+  const vec3 far(1.3e4f, -2.7e3f, 6.1e3f);
+  const Light lights[] = {
+      make_rect_light(far, vec3(3.1f, 0.2f, 0.7f), vec3(-0.2f, 3.1f, 0.0f), vec3(1.0f)),  // a tilted rectangle
+      make_rect_light(far, vec3(2.0f, 0.0f, 0.3f), vec3(1.1f, 1.7f, 0.0f), vec3(1.0f)),   // sheared
+      make_triangle_light(far, far + vec3(2.5f, 0.4f, 0.1f), far + vec3(0.3f, 2.2f, 0.2f), vec3(1.0f))};
+  ASSERT_TRUE(lights[0].rectangular);
+  ASSERT_FALSE(lights[1].rectangular);
+  Pcg32 rng(21, 5);
+  for (const Light& l : lights) {
+    const glm::dvec3 n = glm::normalize(glm::cross(glm::dvec3(l.e1), glm::dvec3(l.e2)));
+    const vec3 ref = l.p0 + 0.4f * l.e1 + 0.3f * l.e2 + 1.5f * l.n;  // near: solid angle is used
+    int off_plane = 0;
+    for (LightSampling mode : {LightSampling::area, LightSampling::solid_angle}) {
+      for (int i = 0; i < 4000; ++i) {
+        LightSample ls;
+        if (!sample_light(l, ref, vec2(rng.next_float(), rng.next_float()), mode, ls)) continue;
+        const double dist = std::abs(glm::dot(glm::dvec3(ls.point.p) - glm::dvec3(l.p0), n));
+        const double bound = glm::dot(glm::abs(n), glm::dvec3(ls.point.p_error));
+        off_plane += dist > 0.0;
+        ASSERT_LE(dist, bound) << "light kind " << int(l.kind) << ", sample " << i;
+      }
+    }
+    EXPECT_GT(off_plane, 1000) << "the test needs points rounded off the plane";
+  }
+}
+
 TEST(LightSampling, BackSideAndBehindGiveNothing) {
   Light rect = make_rect_light(vec3(0, 1, 0), vec3(0, 0, 1), vec3(1, 0, 0), vec3(1));  // faces +y
   LightSample ls;
