@@ -9,39 +9,9 @@
 
 namespace pt {
 
-namespace {
-
-/// Shirley and Chiu's concentric map of the square to the disk; `radius` is the point's signed distance from the
-/// center. The square's point (a, b) with |a| >= |b| goes to radius a at angle phi = pi/4 (b / a); with |b| > |a|,
-/// to radius b at angle pi/2 - phi, phi = pi/4 (a / b), whose cosine and sine are phi's sine and cosine. So one
-/// division and the sine and cosine of an angle within [-pi/4, pi/4] (a polynomial, no reduction) serve both
-/// halves, selected without a branch: which half a sample falls in is a coin toss, so a branch on it would
-/// mispredict about half the time (the branchless map with the polynomial: 10.2% -> 4.9% of a cornell36 frame
-/// together; the two parts were not measured apart).
-inline vec2 concentric_map(vec2 u, float& radius) {
-  const vec2 o = 2.0f * u - vec2(1.0f);
-  const bool x_major = std::abs(o.x) > std::abs(o.y);
-  const float r = x_major ? o.x : o.y, other = x_major ? o.y : o.x;
-  radius = r;
-  if (r == 0.0f) return vec2(0.0f);  // the center (then other is 0 too)
-  float s, c;
-  fast_sincos_quarter(0.25f * kPi * (other / r), s, c);
-  return r * vec2(x_major ? c : s, x_major ? s : c);
-}
-
-}  // namespace
-
 vec2 sample_uniform_disk_concentric(vec2 u) {
   float radius;
   return concentric_map(u, radius);
-}
-
-vec3 sample_cosine_hemisphere(vec2 u) {
-  // Malley's method. cos(theta) = sqrt(1 - r^2) is taken from the disk radius, not from the point's coordinates:
-  // it does not wait for the division and the polynomial, and (1 - r)(1 + r) keeps its precision near the rim.
-  float r;
-  const vec2 d = concentric_map(u, r);
-  return {d.x, d.y, safe_sqrt((1.0f - r) * (1.0f + r))};
 }
 
 vec3 sample_uniform_sphere(vec2 u) {

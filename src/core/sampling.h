@@ -4,15 +4,41 @@
 #include <span>
 #include <vector>
 
+#include "core/fast_trig.h"
 #include "core/math.h"
 
 namespace pt {
+
+/// Shirley and Chiu's concentric map of the square to the disk; `radius` is the point's signed distance from the
+/// center. The square's point (a, b) with |a| >= |b| goes to radius a at angle phi = pi/4 (b / a); with |b| > |a|,
+/// to radius b at angle pi/2 - phi, phi = pi/4 (a / b), whose cosine and sine are phi's sine and cosine. So one
+/// division and the sine and cosine of an angle within [-pi/4, pi/4] (a polynomial, no reduction) serve both
+/// halves, selected without a branch: which half a sample falls in is a coin toss, so a branch on it would
+/// mispredict about half the time (the branchless map with the polynomial: 10.2% -> 4.9% of a cornell36 frame
+/// together; the two parts were not measured apart). Inline, as the cosine-weighted bounce below: out of line it
+/// was a call on every path vertex.
+inline vec2 concentric_map(vec2 u, float& radius) {
+  const vec2 o = 2.0f * u - vec2(1.0f);
+  const bool x_major = std::abs(o.x) > std::abs(o.y);
+  const float r = x_major ? o.x : o.y, other = x_major ? o.y : o.x;
+  radius = r;
+  if (r == 0.0f) return vec2(0.0f);  // the center (then other is 0 too)
+  float s, c;
+  fast_sincos_quarter(0.25f * kPi * (other / r), s, c);
+  return r * vec2(x_major ? c : s, x_major ? s : c);
+}
 
 /// Concentric map of [0,1)^2 to the unit disk (Shirley and Chiu 1997): area preserving, low distortion.
 vec2 sample_uniform_disk_concentric(vec2 u);
 
 /// Cosine-weighted direction on the hemisphere around +z (Malley's method). pdf = cos(theta) / pi.
-vec3 sample_cosine_hemisphere(vec2 u);
+/// cos(theta) = sqrt(1 - r^2) is taken from the disk radius, not from the point's coordinates: it does not wait for
+/// the division and the polynomial, and (1 - r)(1 + r) keeps its precision near the rim.
+inline vec3 sample_cosine_hemisphere(vec2 u) {
+  float r;
+  const vec2 d = concentric_map(u, r);
+  return {d.x, d.y, safe_sqrt((1.0f - r) * (1.0f + r))};
+}
 inline float cosine_hemisphere_pdf(float cos_theta) { return std::max(cos_theta, 0.0f) * kInvPi; }
 
 /// Uniform direction on the unit sphere. pdf = 1 / (4 pi). Not used by the renderer (sphere lights sample their
