@@ -244,6 +244,36 @@ TEST_P(PolygonIrradiance, DirectLightingMatchesLambertsFormula) {
 INSTANTIATE_TEST_SUITE_P(Lights, PolygonIrradiance,
                          ::testing::Values("rect", "parallelogram", "triangle", "gltf-quad"));
 
+TEST(PolygonIrradianceMis, FirstVertexThresholdIsTheOneTheLightSampleUsed) {
+  // MIS under automatic light sampling weighs an emitter hit with light_pdf at the previous vertex, which must use
+  // the same spread threshold as that vertex's light sample (1.5 or 8 at the first vertex, per scene). In the
+  // light-over-plane scenes above a BSDF sample rarely hits the light, so a mismatched threshold moved the estimate
+  // by about 0.2%, under their bound. Here a 2 x 2 light 1 above the receiver: its area density spreads by
+  // (sqrt(3) / 1)^3 = 5.2, between the two thresholds, so the thresholds choose different samplings, and it fills
+  // a third of the cosine-weighted hemisphere, so the BSDF side carries real weight.
+  Scene s;
+  const float albedo = 0.5f, radiance = 4.0f;
+  add_material(s, diffuse(vec3(albedo)));
+  const uint32_t emitter = add_material(s, diffuse(vec3(0.0f), vec3(radiance)));
+  s.quads.push_back({vec3(-50, 0, 50), vec3(100, 0, 0), vec3(0, 0, -100), 0});
+  const vec3 c(-1.0f, 1.0f, -1.0f), e1(2, 0, 0), e2(0, 0, 2);  // cross(e1, e2) = -y: faces down
+  s.quads.push_back({c, e1, e2, emitter});
+  const std::vector<dvec3> polygon = {dvec3(c), dvec3(c + e1), dvec3(c + e1 + e2), dvec3(c + e2)};
+  RenderScene rs = make_render_scene(s);
+  const vec3 x(0.0f);
+  const double expected = albedo / M_PI * polygon_irradiance(polygon, dvec3(x), dvec3(0, 1, 0), radiance);
+  RenderParams params;
+  params.integrator = IntegratorKind::mis;
+  params.light_sampling = LightSampling::automatic;
+  params.max_depth = 1;
+  const Ray ray{x + vec3(0.0f, 0.5f, 0.0f), vec3(0, -1, 0), kInfinity};
+  for (float first_spread : {kAutoMinSpread, kAutoMinSpreadDeep}) {
+    rs.auto_first_spread = first_spread;
+    const Estimate e = estimate(rs, params, ray, 200000, 17);
+    EXPECT_NEAR(e.mean, expected, 5.0 * e.stderr_ + 1e-4 * expected) << "first spread " << first_spread;
+  }
+}
+
 TEST(SphereLight, IrradianceBelowASphereMatchesClosedForm) {
   // A sphere of radiance L and radius r whose center is at distance d straight above x: E = pi L (r/d)^2.
   Scene s;
