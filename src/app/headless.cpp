@@ -104,6 +104,20 @@ struct ShardRun {
   }
 };
 
+/// Frames per pass over the tiles (ProgressiveFilm::frames_per_pass says why several). No one looks at the film
+/// between a headless run's frames unless it writes a CSV row per frame; a pass of about kPassSeconds keeps the
+/// progress line moving and --time-limit overrun by no more than a frame. The image is the same bit for bit.
+int frames_per_pass(const AppOptions& options, const ProgressiveFilm& film, double frame_seconds, double elapsed) {
+  constexpr double kPassSeconds = 0.25;
+  constexpr int kAll = std::numeric_limits<int>::max();
+  if (!options.error_csv.empty()) return 1;
+  int frames_left = options.frames ? *options.frames - film.frames() : kAll;
+  if (options.time_limit && frame_seconds > 0.0)
+    frames_left = int(std::min(double(frames_left), std::max(1.0, (*options.time_limit - elapsed) / frame_seconds)));
+  const int spp_left = options.max_spp ? *options.max_spp - film.spp() : kAll;
+  return film.frames_per_pass(options.render.spp_per_frame, frame_seconds, kPassSeconds, frames_left, spp_left);
+}
+
 /// One process: progressive frames through a ProgressiveFilm, ending at --frames, --max-spp, --time-limit, or when
 /// adaptive sampling has stopped every pixel.
 LoopResult render_single(const AppOptions& options, const RenderScene& rs, Renderer& renderer, RunSummary& run,
@@ -115,14 +129,17 @@ LoopResult render_single(const AppOptions& options, const RenderScene& rs, Rende
   const bool progress = ::isatty(STDERR_FILENO);
   const int frames_total = options.frames.value_or(0);  // 0: until another limit
   const Clock::time_point start = Clock::now();
-  double render_seconds = 0.0;
+  double render_seconds = 0.0, frame_seconds = 0.0;
   while ((frames_total == 0 || film.frames() < frames_total) && !(options.max_spp && film.spp() >= *options.max_spp) &&
          !film.converged()) {
+    const int frames = frames_per_pass(options, film, frame_seconds, seconds_since(start));
     RenderParams p = params;
+    p.spp_per_frame = frames * params.spp_per_frame;
     if (options.max_spp) p.spp_per_frame = std::min(p.spp_per_frame, *options.max_spp - film.spp());
     Clock::time_point t0 = Clock::now();
-    film.render_frame(renderer, rs, p, run.counters);
-    render_seconds += seconds_since(t0);
+    film.render_frame(renderer, rs, p, run.counters, nullptr, frames);
+    frame_seconds = seconds_since(t0) / frames;
+    render_seconds += frame_seconds * frames;
     run.frames = film.frames();
     run.spp = film.spp();
     if (!options.error_csv.empty()) append_error_row(error_csv, run, render_seconds, film.film(), reference);

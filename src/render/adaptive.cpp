@@ -71,15 +71,28 @@ void ProgressiveFilm::check() {
 }
 
 bool ProgressiveFilm::render_frame(Renderer& renderer, const RenderScene& scene, const RenderParams& params,
-                                   RenderCounters& counters, const std::atomic<bool>* cancel) {
+                                   RenderCounters& counters, const std::atomic<bool>* cancel, int frames) {
   const bool adaptive = adaptive_.enabled();
   if (adaptive && checked_ && active_count_ == 0) return true;  // converged: nothing to add
   bool done = renderer.render_pass(scene, params, film_, adaptive ? active_.data() : nullptr, counters, cancel);
   if (!done) return false;
-  ++frames_;
+  frames_ += frames;
   level_ += params.spp_per_frame;
   if (adaptive && level_ >= next_check_) check();
   return true;
+}
+
+int ProgressiveFilm::frames_to_check(int spp_per_frame) const {
+  if (!adaptive_.enabled()) return std::numeric_limits<int>::max();
+  return std::max(1, (next_check_ - level_ + spp_per_frame - 1) / spp_per_frame);  // level_ < next_check_ here
+}
+
+int ProgressiveFilm::frames_per_pass(int spp_per_frame, double frame_seconds, double pass_seconds, int frames_left,
+                                     int spp_left) const {
+  if (!(frame_seconds > 0.0)) return 1;
+  double n = std::min(double(kMaxFramesPerPass), pass_seconds / frame_seconds);
+  n = std::min({n, double(frames_left), std::ceil(double(spp_left) / spp_per_frame), double(frames_to_check(spp_per_frame))});
+  return std::max(1, int(n));
 }
 
 double ProgressiveFilm::converged_fraction() const {

@@ -11,6 +11,7 @@
 /// next sample index (Film::taken), which keeps every pixel's samples a prefix of its sequence. Because each
 /// decision depends only on the film, which is bit-identical for any thread count, so are adaptive runs.
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "render/renderer.h"
@@ -24,6 +25,7 @@ struct AdaptiveParams {
 };
 
 inline constexpr int kAdaptiveCheckInterval = 16;
+inline constexpr int kMaxFramesPerPass = 16;
 
 /// Cycles' automatic minimum: ceil(16 / T^0.3), at least 4 (T = 0.1 -> 32, 0.01 -> 64, 0.001 -> 128), rounded up
 /// to an even number so that both halves of the estimator hold as many samples.
@@ -46,8 +48,25 @@ class ProgressiveFilm {
   /// Adds params.spp_per_frame samples to every active pixel (each continues from its own sample index), then
   /// runs the convergence check when one is due. False if cancelled (the film holds a partial, still consistent,
   /// frame: every pixel's samples remain a prefix of its sequence).
+  ///
+  /// `frames` > 1 renders that many frames in one pass over the tiles: params.spp_per_frame is then the samples of
+  /// all of them. The film is the same bit for bit as frame by frame (each pixel takes the same samples in the same
+  /// order), provided the pass ends where a frame would run the convergence check: see frames_to_check().
   bool render_frame(Renderer& renderer, const RenderScene& scene, const RenderParams& params,
-                    RenderCounters& counters, const std::atomic<bool>* cancel = nullptr);
+                    RenderCounters& counters, const std::atomic<bool>* cancel = nullptr, int frames = 1);
+  /// The frames of `spp_per_frame` samples up to and including the one after which the next convergence check runs
+  /// (a large number when adaptive sampling is off): the most one render_frame call may stand for.
+  int frames_to_check(int spp_per_frame) const;
+  /// The frames the next pass should render: as many as take about `pass_seconds` at `frame_seconds` a frame (1
+  /// while that is unknown, <= 0), at most kMaxFramesPerPass, `frames_left`, the frames that hold `spp_left`
+  /// samples, and frames_to_check(). Why several: a pass renders each pixel's samples one after the other, so the
+  /// part of the scene a tile sees stays in cache, where 1-sample frames stream the whole tree and mesh through the
+  /// cache once a frame (the 69k-triangle bunny at 256x256: about 2.5 ms a frame, 15% of its time;
+  /// docs/BENCHMARKS.md, twelfth round). Cycles renders several samples per pass for the same reason
+  /// (intern/cycles/integrator/render_scheduler.cpp).
+  int frames_per_pass(int spp_per_frame, double frame_seconds, double pass_seconds,
+                      int frames_left = std::numeric_limits<int>::max(),
+                      int spp_left = std::numeric_limits<int>::max()) const;
 
   const Film& film() const { return film_; }
   Film& film() { return film_; }

@@ -179,11 +179,21 @@ void RenderSession::drive(std::stop_token stop) {
       scene = std::move(piloted);
       if (epoch_ != current) continue;
     }
+    // Frames faster than the display's updates go several to a pass (ProgressiveFilm::frames_per_pass), never past
+    // the target: a pass of about kPassSeconds still shows the image converge smoothly, and a restart cancels it at
+    // the next tile all the same.
+    constexpr double kPassSeconds = 1.0 / 30.0;
+    const int target = target_spp_;
+    const int pass_frames = film.frames_per_pass(params.spp_per_frame, frames > 0 ? seconds / frames : 0.0,
+                                                 kPassSeconds, std::numeric_limits<int>::max(),
+                                                 target > 0 ? target - film.spp() : std::numeric_limits<int>::max());
+    RenderParams pass = params;
+    pass.spp_per_frame = pass_frames * params.spp_per_frame;
     auto t0 = Clock::now();
-    bool complete = film.render_frame(*renderer, *scene, params, frame_counters, &cancel_);
+    bool complete = film.render_frame(*renderer, *scene, pass, frame_counters, &cancel_, pass_frames);
     if (!complete || epoch_ != current) continue;  // stale: the next loop starts the new epoch
     seconds += std::chrono::duration<double>(Clock::now() - t0).count();
-    ++frames;
+    frames += pass_frames;
     counters += frame_counters;
     converged_ = film.converged();
     publish(film.film().resolve(), false, params.width, params.height);

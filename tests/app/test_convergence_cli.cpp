@@ -97,6 +97,41 @@ TEST(ConvergenceCli, AdaptiveImageIsIdenticalForAnyThreadCount) {
   EXPECT_EQ(read_file(dir / "s1.pfm"), read_file(dir / "s3.pfm"));
 }
 
+// Without --error-csv the headless mode renders up to 16 frames per pass (frames_per_pass in app/headless.cpp);
+// with it, one frame per pass, for a row per frame. The image and the frame and sample counts must not differ:
+// whole frames, a --max-spp that cuts the last frame, and adaptive sampling, whose checks end passes.
+TEST(ConvergenceCli, PassesOfSeveralFramesGiveTheImageOfFrameByFrame) {
+  TempDir dir;
+  const std::vector<std::vector<std::string>> runs = {
+      {"--frames", "37", "--spp-per-frame", "3"},
+      {"--max-spp", "45", "--spp-per-frame", "4"},
+      {"builtin:cornell-glass", "--noise-threshold", "0.2", "--min-spp", "6", "--max-spp", "200", "--spp-per-frame",
+       "2"},
+  };
+  int k = 0;
+  for (const auto& run : runs) {
+    std::string image[2], stats[2];
+    for (int per_frame = 0; per_frame < 2; ++per_frame) {
+      std::vector<std::string> args = run;
+      image[per_frame] = dir / ("i" + std::to_string(k) + std::to_string(per_frame) + ".pfm");
+      stats[per_frame] = dir / ("s" + std::to_string(k) + std::to_string(per_frame) + ".json");
+      for (std::string a : {"--size", "20x16", "--threads", "2", "--out", image[per_frame].c_str(), "--stats-json",
+                            stats[per_frame].c_str()})
+        args.push_back(a);
+      if (per_frame) args.insert(args.end(), {"--error-csv", dir / "e.csv"});
+      auto r = run_ptview(args);
+      ASSERT_EQ(r.exit_code, 0) << r.err;
+    }
+    SCOPED_TRACE("run " + std::to_string(k));
+    EXPECT_EQ(read_file(image[0]), read_file(image[1]));
+    auto passes = nlohmann::json::parse(read_file(stats[0])), frames = nlohmann::json::parse(read_file(stats[1]));
+    for (const char* key : {"frames", "spp", "spp_min", "spp_max", "spp_mean", "samples", "rays", "converged_fraction"})
+      EXPECT_EQ(passes[key], frames[key]) << key;
+    EXPECT_EQ(count_lines(read_file(dir / "e.csv")), frames["frames"].get<int>() + 1);
+    ++k;
+  }
+}
+
 TEST(ConvergenceCli, BadValuesExitTwoWithOneLine) {
   TempDir dir;
   const std::string out = dir / "x.png";

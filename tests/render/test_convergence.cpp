@@ -265,6 +265,50 @@ TEST(Adaptive, BitIdenticalForAnyThreadCount) {
   EXPECT_NE(spp_summary(one).min, spp_summary(one).max);  // it did adapt
 }
 
+// Several frames in one pass (the headless mode's passes) give the film of the frames one by one, bit for bit, as
+// long as each pass ends at the frame that runs the convergence check. Passes of at most 5 frames: some end at the
+// cap, others at a check (min 8 and then every 16 samples, 4 samples a frame).
+TEST(Adaptive, PassesOfSeveralFramesGiveTheFilmOfTheFramesOneByOne) {
+  RenderScene rs = make_render_scene(test::make_test_cornell());
+  RenderParams p;
+  p.width = 37;
+  p.height = 23;
+  p.spp_per_frame = 4;
+  Renderer r(2);
+  ProgressiveFilm one, passes;
+  for (ProgressiveFilm* f : {&one, &passes}) {
+    f->reset(p.width, p.height);
+    f->set_adaptive({0.1, 8});
+  }
+  RenderCounters c;
+  for (int i = 0; i < 24; ++i) one.render_frame(r, rs, p, c);
+  int pass_count = 0;
+  while (passes.frames() < 24) {
+    const int frames = std::min({5, passes.frames_to_check(p.spp_per_frame), 24 - passes.frames()});
+    RenderParams q = p;
+    q.spp_per_frame = frames * p.spp_per_frame;
+    ASSERT_TRUE(passes.render_frame(r, rs, q, c, nullptr, frames));
+    ++pass_count;
+  }
+  EXPECT_LT(pass_count, 12);
+  EXPECT_EQ(passes.frames(), one.frames());
+  EXPECT_EQ(passes.spp(), one.spp());
+  EXPECT_EQ(passes.film().sum, one.film().sum);
+  EXPECT_EQ(passes.film().half_sum, one.film().half_sum);
+  EXPECT_EQ(passes.film().taken, one.film().taken);
+  EXPECT_EQ(passes.active(), one.active());
+  EXPECT_NE(spp_summary(one.film()).min, spp_summary(one.film()).max);  // it did adapt
+  // The frames up to a check: min 8 at 4 a frame is 2 frames from the start, then 16 samples are 4 frames.
+  ProgressiveFilm f;
+  f.reset(8, 8);
+  f.set_adaptive({0.1, 8});
+  EXPECT_EQ(f.frames_to_check(4), 2);
+  EXPECT_EQ(f.frames_to_check(3), 3);
+  EXPECT_EQ(f.frames_to_check(64), 1);
+  f.set_adaptive({});
+  EXPECT_GE(f.frames_to_check(4), 1 << 20);  // off: no check limits a pass
+}
+
 TEST(Adaptive, AutomaticMinimumFollowsCycles) {
   EXPECT_EQ(auto_min_spp(0.1), 32);
   EXPECT_EQ(auto_min_spp(0.01), 64);

@@ -34,13 +34,13 @@ TEST(Session, FinalStateMatchesADirectRender) {
   p.threads = 2;
   RenderSession session(2);
   session.set_preview_divisor(4);
+  session.set_target_spp(3);  // before the first frame: fast frames go several to a pass
   // A storm of restarts: each must return at once and leave only the last state rendering.
   uint64_t last = 0;
   for (int i = 0; i < 50; ++i) {
     p.seed = uint64_t(i);
     last = session.restart(rs, p);
   }
-  session.set_target_spp(3);
   SessionFrame f = wait_for_frames(session, last, 3);
   EXPECT_EQ(f.spp, 3);
   // The same three frames rendered directly.
@@ -71,8 +71,8 @@ TEST(Session, RunsAPendingAutoLightSamplingPilotBeforeItsFirstKeptFrame) {
   ASSERT_NE(stale.resolve().rgb, right.resolve().rgb) << "the choices must differ here for the test to tell";
   RenderSession session(2);
   session.set_preview_divisor(4);
-  const uint64_t epoch = session.restart(pending, p);
   session.set_target_spp(3);
+  const uint64_t epoch = session.restart(pending, p);
   const SessionFrame f = wait_for_frames(session, epoch, 3);
   EXPECT_EQ(f.image.rgb, right.resolve().rgb);
   // The frame tells the viewer what was chosen (its Stats panel).
@@ -87,6 +87,27 @@ Image direct_render(const RenderScene& rs, const RenderParams& p, int frames) {
   RenderCounters c;
   for (int k = 0; k < frames; ++k) r.render_frame(rs, p, film, uint32_t(k), c);
   return film.resolve();
+}
+
+// Frames far faster than the display go several to a pass (ProgressiveFilm::frames_per_pass), but a pass never
+// runs past the target: with 3 samples a frame and a target of 10 the session stops after 4 frames, 12 samples,
+// as it would frame by frame, and shows what 4 frames rendered directly show.
+TEST(Session, PassesOfSeveralFramesStopAtTheTarget) {
+  auto rs = std::make_shared<RenderScene>(make_render_scene(test::make_test_cornell()));
+  RenderParams p;
+  p.width = 20;
+  p.height = 12;
+  p.threads = 2;
+  p.spp_per_frame = 3;
+  RenderSession session(2);
+  session.set_target_spp(10);
+  const uint64_t epoch = session.restart(rs, p);
+  SessionFrame f = wait_for_frames(session, epoch, 4);
+  std::this_thread::sleep_for(std::chrono::milliseconds(50));  // it has stopped: nothing newer comes
+  session.fetch(f);
+  EXPECT_EQ(f.frames, 4);
+  EXPECT_EQ(f.spp, 12);
+  EXPECT_EQ(f.image.rgb, direct_render(*rs, p, 4).rgb);
 }
 
 TEST(Session, PausedSessionKeepsItsImageAndResumes) {
