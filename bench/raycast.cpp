@@ -558,9 +558,9 @@ TraceRow trace_any(const std::string& set, const std::vector<Ray>& rays, const T
 }
 
 /// ptview's path loop: 256x256, max depth 8, default integrator, light sampling and sampler, 1-spp frames for at
-/// least `seconds` (and 2 passes), `frames_per_pass` of them in each pass over the tiles. The viewer renders one
-/// frame per pass; the headless mode up to 16 (frames_per_pass in src/app/headless.cpp; 16 on this scene). Mrays/s
-/// counts camera, bounce and shadow rays.
+/// least `seconds` (and 2 passes), `frames_per_pass` of them in each pass over the tiles
+/// (ProgressiveFilm::frames_per_pass: the headless mode renders up to 16 per pass, 16 on this scene; the viewer
+/// about 1/30 s of frames, 2-4 here). Mrays/s counts camera, bounce and shadow rays.
 struct PathLoopResult {
   double spp_per_s = -1, mrays_per_s = -1;
 };
@@ -651,18 +651,18 @@ void run_mesh(const TestMesh& m, const Options& opt, Csv& csv) {
   if (!m.path_scene) return;
   // The whole path loop against bare rays: ptview's own Mrays/s (camera + bounce + shadow rays, as mrays_per_s in
   // the stats JSON) rendering the scene as loaded, over Embree's diffuse-ray Mrays/s measured above in this run.
-  // Two loops: the viewer's (a pass per 1-spp frame) and the headless mode's (16 frames per pass).
+  // Two loops: a pass per 1-spp frame (the viewer's when a frame takes 1/30 s or more) and the headless mode's 16.
   std::printf("\n%-8s %-36s %8s %12s %16s %11s\n", "mesh", "path loop (256x256, depth 8, defaults)", "threads",
               "spp/s", "ptview Mrays/s", "/ Embree diffuse");
   const RenderScene rs = make_render_scene(*m.path_scene);
   for (size_t k = 0; k < thread_counts.size(); ++k)
-    for (auto [loop, frames_per_pass] : {std::pair{"viewer: 1 frame per pass", 1}, {"headless: 16 frames per pass", 16}}) {
+    for (auto [loop, frames_per_pass] : {std::pair{"1 frame per pass", 1}, {"16 frames per pass (headless)", 16}}) {
       const PathLoopResult p = run_path_loop(rs, thread_counts[k], opt.path_seconds, frames_per_pass);
       const double ratio = embree_diffuse[k] > 0.0 ? p.mrays_per_s / embree_diffuse[k] : -1.0;
       std::printf("%-8s %-36s %8d %12s %16s %11s\n", m.name.c_str(), loop, thread_counts[k], fmt(p.spp_per_s).c_str(),
                   fmt(p.mrays_per_s).c_str(), fmt(ratio, "%.3f").c_str());
-      csv.row({"path", m.name, std::to_string(m.triangles()),
-               std::string("path loop 256x256 depth 8 ") + (frames_per_pass == 1 ? "viewer" : "headless"), std::to_string(thread_counts[k]), "", "",
+      const std::string set = "path loop 256x256 depth 8 " + std::to_string(frames_per_pass) + " frames per pass";
+      csv.row({"path", m.name, std::to_string(m.triangles()), set, std::to_string(thread_counts[k]), "", "",
                Csv::cell(p.mrays_per_s), Csv::cell(embree_diffuse[k]), Csv::cell(ratio), "", "", "", "", "", "", "",
                "", "", ""});
     }

@@ -91,7 +91,8 @@ int ProgressiveFilm::frames_per_pass(int spp_per_frame, double frame_seconds, do
                                      int spp_left) const {
   if (!(frame_seconds > 0.0)) return 1;
   double n = std::min(double(kMaxFramesPerPass), pass_seconds / frame_seconds);
-  n = std::min({n, double(frames_left), std::ceil(double(spp_left) / spp_per_frame), double(frames_to_check(spp_per_frame))});
+  n = std::min({n, double(frames_left), std::ceil(double(spp_left) / spp_per_frame),
+                double(frames_to_check(spp_per_frame))});
   return std::max(1, int(n));
 }
 
