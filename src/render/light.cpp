@@ -6,12 +6,25 @@
 
 namespace pt {
 
-Light make_rect_light(vec3 corner, vec3 edge1, vec3 edge2, vec3 emission) {
+namespace {
+
+/// What every planar light holds: its corner, edges and emission, and the magnitude its sampled points' rounding
+/// error scales with.
+Light planar_light(LightKind kind, vec3 p0, vec3 e1, vec3 e2, vec3 emission) {
   Light l;
-  l.kind = LightKind::rect;
-  l.p0 = corner;
-  l.e1 = edge1;
-  l.e2 = edge2;
+  l.kind = kind;
+  l.p0 = p0;
+  l.e1 = e1;
+  l.e2 = e2;
+  l.point_magnitude = glm::abs(p0) + glm::abs(e1) + glm::abs(e2);
+  l.emission = emission;
+  return l;
+}
+
+}  // namespace
+
+Light make_rect_light(vec3 corner, vec3 edge1, vec3 edge2, vec3 emission) {
+  Light l = planar_light(LightKind::rect, corner, edge1, edge2, emission);
   vec3 c = glm::cross(edge1, edge2);
   l.area = glm::length(c);
   l.n = l.area > 0.0f ? c / l.area : vec3(0, 0, 1);
@@ -21,23 +34,15 @@ Light make_rect_light(vec3 corner, vec3 edge1, vec3 edge2, vec3 emission) {
     l.inv_len2 = vec2(1.0f / (l1 * l1), 1.0f / (l2 * l2));
     l.rectangular = make_rectangle_frame(corner, edge1, edge2, l.rect_frame);
   }
-  l.point_magnitude = glm::abs(l.p0) + glm::abs(l.e1) + glm::abs(l.e2);
-  l.emission = emission;
   return l;
 }
 
 Light make_triangle_light(vec3 p0, vec3 p1, vec3 p2, vec3 emission) {
-  Light l;
-  l.kind = LightKind::triangle;
-  l.p0 = p0;
-  l.e1 = p1 - p0;
-  l.e2 = p2 - p0;
+  Light l = planar_light(LightKind::triangle, p0, p1 - p0, p2 - p0, emission);
   vec3 c = glm::cross(l.e1, l.e2);
   float len = glm::length(c);
   l.area = 0.5f * len;
   l.n = len > 0.0f ? c / len : vec3(0, 0, 1);
-  l.point_magnitude = glm::abs(l.p0) + glm::abs(l.e1) + glm::abs(l.e2);
-  l.emission = emission;
   return l;
 }
 
