@@ -239,12 +239,17 @@ TEST(Adaptive, LoweringTheThresholdResumesStoppedPixels) {
   for (size_t px = 0; px < before.size(); ++px) ASSERT_EQ(f.film().taken[px], before[px] + 16);
 }
 
-Film adaptive_render(const RenderScene& rs, int threads) {
+RenderParams adaptive_params() {
   RenderParams p;
   p.width = 37;
   p.height = 23;
   p.spp_per_frame = 4;
   p.sampler = SamplerKind::sobol;
+  return p;
+}
+
+Film adaptive_render(const RenderScene& rs, int threads) {
+  const RenderParams p = adaptive_params();
   Renderer r(threads);
   ProgressiveFilm f;
   f.reset(p.width, p.height);
@@ -270,10 +275,7 @@ TEST(Adaptive, BitIdenticalForAnyThreadCount) {
 // cap, others at a check (min 8 and then every 16 samples, 4 samples a frame).
 TEST(Adaptive, PassesOfSeveralFramesGiveTheFilmOfTheFramesOneByOne) {
   RenderScene rs = make_render_scene(test::make_test_cornell());
-  RenderParams p;
-  p.width = 37;
-  p.height = 23;
-  p.spp_per_frame = 4;
+  const RenderParams p = adaptive_params();
   Renderer r(2);
   ProgressiveFilm one, passes;
   for (ProgressiveFilm* f : {&one, &passes}) {

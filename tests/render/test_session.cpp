@@ -26,12 +26,19 @@ SessionFrame wait_for_frames(RenderSession& s, uint64_t epoch, int frames) {
   return f;
 }
 
+/// A small image on 2 threads: frames of a few milliseconds.
+RenderParams small_params(int width, int height, int spp_per_frame = 1) {
+  RenderParams p;
+  p.width = width;
+  p.height = height;
+  p.threads = 2;
+  p.spp_per_frame = spp_per_frame;
+  return p;
+}
+
 TEST(Session, FinalStateMatchesADirectRender) {
   auto rs = std::make_shared<RenderScene>(make_render_scene(test::make_test_cornell()));
-  RenderParams p;
-  p.width = 24;
-  p.height = 16;
-  p.threads = 2;
+  RenderParams p = small_params(24, 16);
   RenderSession session(2);
   session.set_preview_divisor(4);
   session.set_target_spp(3);  // before the first frame: fast frames go several to a pass
@@ -60,10 +67,7 @@ TEST(Session, RunsAPendingAutoLightSamplingPilotBeforeItsFirstKeptFrame) {
   auto pending = std::make_shared<RenderScene>(piloted);
   pending->auto_first_spread = piloted.auto_first_spread == kAutoMinSpread ? kAutoMinSpreadDeep : kAutoMinSpread;
   pending->auto_pilot_pending = true;
-  RenderParams p;
-  p.width = 24;
-  p.height = 16;
-  p.threads = 2;
+  const RenderParams p = small_params(24, 16);
   Renderer r(1);
   Film stale(p.width, p.height), right(p.width, p.height);
   RenderCounters c;
@@ -94,11 +98,7 @@ Image direct_render(const RenderScene& rs, const RenderParams& p, int frames) {
 // as it would frame by frame, and shows what 4 frames rendered directly show.
 TEST(Session, PassesOfSeveralFramesStopAtTheTarget) {
   auto rs = std::make_shared<RenderScene>(make_render_scene(test::make_test_cornell()));
-  RenderParams p;
-  p.width = 20;
-  p.height = 12;
-  p.threads = 2;
-  p.spp_per_frame = 3;
+  const RenderParams p = small_params(20, 12, 3);
   RenderSession session(2);
   session.set_target_spp(10);
   const uint64_t epoch = session.restart(rs, p);
