@@ -153,23 +153,31 @@ LoopResult render_single(const AppOptions& options, const RenderScene& rs, Rende
 }
 
 /// Several ranks: sample-range sharding (dist/cluster.h). In round k this rank renders global frame k * ranks +
-/// rank; `film` holds this rank's samples, the result all ranks' (on rank 0). Adaptive sampling and --max-spp take
-/// render_sharded_adaptive.
+/// rank, the frames of several rounds in one pass; `film` holds this rank's samples, the result all ranks' (on
+/// rank 0). Adaptive sampling and --max-spp take render_sharded_adaptive.
 LoopResult render_sharded(const AppOptions& options, const RenderScene& rs, Renderer& renderer, RunSummary& run,
                           std::ostringstream& error_csv, const std::optional<Image>& reference, Cluster& cluster) {
   const RenderParams& params = options.render;
   const int ranks = cluster.ranks();
   ShardRun s(options, cluster, run);
   const int frames_total = s.frames_total;  // 0: until the time limit
-  for (int round = 0; frames_total == 0 || int64_t(round) * ranks < frames_total; ++round) {
+  // Rounds per pass: each rank renders its frames of kMaxFramesPerPass rounds in one pass over the tiles (as one
+  // process does; ProgressiveFilm::frames_per_pass), unless a CSV row or a time-limit check is due every round.
+  // The same on every rank: the number of end_round calls, which are collective, must agree.
+  const int rounds_per_pass = options.error_csv.empty() && !options.time_limit ? kMaxFramesPerPass : 1;
+  for (int round = 0; frames_total == 0 || int64_t(round) * ranks < frames_total; round += rounds_per_pass) {
     Clock::time_point t0 = Clock::now();
-    const int64_t frame = shard_frame(round, cluster.rank(), ranks);
-    if (frames_total == 0 || frame < frames_total) {
-      renderer.render_frame(rs, params, s.film, uint32_t(frame), run.counters);
-      s.mine.spp += params.spp_per_frame;
+    std::vector<uint32_t> frames;
+    for (int k = 0; k < rounds_per_pass; ++k) {
+      const int64_t frame = shard_frame(round + k, cluster.rank(), ranks);
+      if (frames_total == 0 || frame < frames_total) frames.push_back(uint32_t(frame));
+    }
+    if (!frames.empty()) {
+      renderer.render_frames(rs, params, s.film, frames.data(), int(frames.size()), run.counters);
+      s.mine.spp += int(frames.size()) * params.spp_per_frame;
       s.mine.seconds += seconds_since(t0);
     }
-    run.frames = int(frames_after_rounds(round + 1, ranks, frames_total));
+    run.frames = int(frames_after_rounds(round + rounds_per_pass, ranks, frames_total));
     run.spp = run.frames * params.spp_per_frame;
     s.summed = false;
     if (!options.error_csv.empty()) {  // the same on every rank (collective): a CSV row per round

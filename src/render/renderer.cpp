@@ -52,10 +52,15 @@ bool for_each_tile(WorkerPool& pool, int width, int height, RenderCounters& coun
 
 bool Renderer::render_frame(const RenderScene& scene, const RenderParams& params, Film& film, uint32_t frame,
                             RenderCounters& counters, const std::atomic<bool>* cancel) {
+  return render_frames(scene, params, film, &frame, 1, counters, cancel);
+}
+
+bool Renderer::render_frames(const RenderScene& scene, const RenderParams& params, Film& film, const uint32_t* frames,
+                             int count, RenderCounters& counters, const std::atomic<bool>* cancel) {
   const CameraRig rig = make_camera_rig(scene.camera, params.width, params.height);
-  const uint32_t first_sample = frame * uint32_t(params.spp_per_frame);
   return for_each_tile(*pool_, params.width, params.height, counters, cancel, [&](int x, int y, RenderCounters& c) {
-    render_pixel(scene, params, rig, x, y, first_sample, film, c);
+    for (int k = 0; k < count; ++k)
+      render_pixel(scene, params, rig, x, y, frames[k] * uint32_t(params.spp_per_frame), film, c);
   });
 }
 

@@ -24,6 +24,11 @@ class Renderer {
   /// false (the film then holds a partial frame and should be cleared).
   bool render_frame(const RenderScene& scene, const RenderParams& params, Film& film, uint32_t frame,
                     RenderCounters& counters, const std::atomic<bool>* cancel = nullptr);
+  /// The frames frames[0] .. frames[count - 1] in one pass over the tiles: each pixel takes their samples one
+  /// after the other, in that order, before the next pixel (why: ProgressiveFilm::frames_per_pass). The film is
+  /// that of render_frame called for each frame in turn, bit for bit.
+  bool render_frames(const RenderScene& scene, const RenderParams& params, Film& film, const uint32_t* frames,
+                     int count, RenderCounters& counters, const std::atomic<bool>* cancel = nullptr);
   /// Adds `spp_per_frame` samples to each pixel with active[p] != 0 (every pixel if `active` is null), each pixel
   /// continuing from its own next sample index film.taken[p]: adaptive sampling (render/adaptive.h). For a film
   /// that only ever received whole passes or frames from frame 0 this equals render_frame with the next frame.

@@ -1,6 +1,8 @@
 // Images depend only on (scene, options, seed): never on the thread count or the tile schedule.
 #include <gtest/gtest.h>
 
+#include <vector>
+
 #include "render/renderer.h"
 #include "scene_builders.h"
 
@@ -28,6 +30,26 @@ TEST(Determinism, ThreadCountDoesNotChangeTheImage) {
   EXPECT_EQ(one.sum, two.sum);
   EXPECT_EQ(one.sum, five.sum);
   EXPECT_EQ(one.count, two.count);
+}
+
+// Several frames in one pass (MPI ranks render theirs so: app/headless.cpp) give the film of the frames rendered one
+// by one in the same order, bit for bit, for any frame list (a rank's frames are not contiguous).
+TEST(Determinism, FramesInOnePassGiveTheFilmOfTheFramesInTurn) {
+  RenderScene rs = make_render_scene(test::make_test_cornell());
+  RenderParams params;
+  params.width = 33;
+  params.height = 21;
+  params.spp_per_frame = 2;
+  const std::vector<uint32_t> frames = {4, 1, 7};
+  Renderer renderer(2);
+  Film in_turn(params.width, params.height), one_pass(params.width, params.height);
+  RenderCounters c;
+  for (uint32_t f : frames) renderer.render_frame(rs, params, in_turn, f, c);
+  ASSERT_TRUE(renderer.render_frames(rs, params, one_pass, frames.data(), int(frames.size()), c));
+  EXPECT_EQ(one_pass.sum, in_turn.sum);
+  EXPECT_EQ(one_pass.half_sum, in_turn.half_sum);
+  EXPECT_EQ(one_pass.count, in_turn.count);
+  EXPECT_EQ(one_pass.taken, in_turn.taken);
 }
 
 /// Fraction of entries where the two sums differ.
