@@ -4,7 +4,9 @@
 /// tracing"), collapsed from the binary tree by the SAH-optimal dynamic program of Ylitie, Karras and Laine 2017
 /// ("Efficient incoherent ray traversal on GPUs through compressed wide BVHs"). One node test checks a ray against 8 boxes at once, so a ray visits about a third as many nodes as
 /// in the binary tree, and each visit is a few AVX instructions.
+#include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <span>
 #include <vector>
 
@@ -57,6 +59,13 @@ struct alignas(32) Tri4 {
   uint32_t prim[4];
 };
 inline constexpr uint32_t kInvalidPrim = 0xffffffffu;
+
+/// The prim id of a block's lane given as &v[0][0][lane]: prim[lane] lies offsetof(Tri4, prim) bytes further.
+inline uint32_t lane_prim(const float* lane) {
+  uint32_t prim;
+  std::memcpy(&prim, reinterpret_cast<const char*>(lane) + offsetof(Tri4, prim), sizeof prim);
+  return prim;
+}
 
 /// Writes triangle (p0, p1, p2) into `lane` (the prim id is set separately).
 inline void set_lane(Tri4& block, int lane, vec3 p0, vec3 p1, vec3 p2) {
@@ -161,8 +170,10 @@ Tri4Hit intersect_tri4(const Tri4& block, const WatertightRay& ray, float tmax);
 /// True if any triangle of the block is hit in (0, tmax).
 bool occluded_tri4(const Tri4& block, const WatertightRay& ray, float tmax);
 
-/// Closest hit in (0, ray.tmax): shrinks ray.tmax and sets prim, b1, b2 on a hit.
-bool intersect_bvh8(const Bvh8& bvh, Ray& ray, uint32_t& prim, float& b1, float& b2);
+/// Closest hit in (0, ray.tmax): shrinks ray.tmax and sets prim, b1, b2 on a hit, and *vertices (if given) to the
+/// hit triangle's lane of its leaf block, &Tri4::v[0][0][lane].
+bool intersect_bvh8(const Bvh8& bvh, Ray& ray, uint32_t& prim, float& b1, float& b2,
+                    const float** vertices = nullptr);
 /// Any hit in (0, ray.tmax).
 bool occluded_bvh8(const Bvh8& bvh, const Ray& ray);
 

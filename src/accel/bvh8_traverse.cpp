@@ -245,7 +245,7 @@ PT_INLINE Tri4Hit closest_in_block(const Tri4& blk, const SimdWatertightRay& w, 
 /// the nearest is visited first, and popped entries beyond the current closest hit are dropped. Children about to
 /// be visited later are prefetched: on large trees incoherent rays mostly wait for memory.
 template <bool kAnyHit>
-bool traverse(const Bvh8& bvh, Ray& ray, uint32_t* prim, float* b1, float* b2) {
+bool traverse(const Bvh8& bvh, Ray& ray, uint32_t* prim, float* b1, float* b2, const float** vertices) {
   if (bvh.empty()) return false;
   const SimdNodeRay nr(make_node_ray(ray));
   const WatertightRay w = make_watertight_ray(ray);
@@ -260,7 +260,9 @@ bool traverse(const Bvh8& bvh, Ray& ray, uint32_t* prim, float* b1, float* b2) {
   // The closest hit so far lives in locals: written through the pointers, which may alias ray.tmax, the compiler
   // would reload tmax after every hit. pop_tmax is the bound popped entries are checked against.
   float tmax = ray.tmax, pop_tmax = tmax * kRobust, hit_b1 = 0.0f, hit_b2 = 0.0f;
-  uint32_t hit_prim = 0;
+  // The hit triangle's lane of its block, &v[0][0][lane]: its prim id is lane_prim(hit_lane), so one register holds
+  // both.
+  const float* hit_lane = nullptr;
   ChildRef cur = 0;
   for (;;) {
     while (!is_leaf_ref(cur)) {
@@ -329,7 +331,7 @@ bool traverse(const Bvh8& bvh, Ray& ray, uint32_t* prim, float* b1, float* b2) {
           if (h.lane >= 0) {
             tmax = h.t;
             pop_tmax = tmax * kRobust;
-            hit_prim = blk.prim[h.lane];
+            hit_lane = &blk.v[0][0][h.lane];
             hit_b1 = h.b1;
             hit_b2 = h.b2;
             found = true;
@@ -341,7 +343,8 @@ bool traverse(const Bvh8& bvh, Ray& ray, uint32_t* prim, float* b1, float* b2) {
     for (;;) {
       if (top == 0) {
         if constexpr (!kAnyHit) {
-          if (found) ray.tmax = tmax, *prim = hit_prim, *b1 = hit_b1, *b2 = hit_b2;
+          if (found) ray.tmax = tmax, *prim = lane_prim(hit_lane), *b1 = hit_b1, *b2 = hit_b2;
+          if (found && vertices) *vertices = hit_lane;
         }
         return found;
       }
@@ -372,12 +375,12 @@ bool occluded_tri4(const Tri4& block, const WatertightRay& ray, float tmax) {
   return tri4_test(block, SimdWatertightRay(ray), tmax, t, e1, e2, inv_det) != 0;
 }
 
-bool intersect_bvh8(const Bvh8& bvh, Ray& ray, uint32_t& prim, float& b1, float& b2) {
-  return traverse<false>(bvh, ray, &prim, &b1, &b2);
+bool intersect_bvh8(const Bvh8& bvh, Ray& ray, uint32_t& prim, float& b1, float& b2, const float** vertices) {
+  return traverse<false>(bvh, ray, &prim, &b1, &b2, vertices);
 }
 bool occluded_bvh8(const Bvh8& bvh, const Ray& ray) {
   Ray r = ray;
-  return traverse<true>(bvh, r, nullptr, nullptr, nullptr);
+  return traverse<true>(bvh, r, nullptr, nullptr, nullptr, nullptr);
 }
 
 }  // namespace pt

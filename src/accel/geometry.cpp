@@ -111,8 +111,9 @@ bool intersect_closest(const TraceGeometry& g, Ray& ray, Hit& hit) {
   if (!g.triangles.empty()) {
     uint32_t prim;
     float b1, b2;
-    if (intersect_bvh8(g.triangles, ray, prim, b1, b2)) {
-      hit = {ray.tmax, prim, b1, b2};
+    const float* vertices;
+    if (intersect_bvh8(g.triangles, ray, prim, b1, b2, &vertices)) {
+      hit = {ray.tmax, prim, b1, b2, vertices};
       found = true;
     }
   }

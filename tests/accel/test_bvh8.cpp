@@ -199,6 +199,9 @@ TEST(Bvh8, ClosestAndAnyHitOnAClosedMeshEqualBruteForce) {
       if (!want_hit) continue;
       ++hits;
       ASSERT_EQ(r.tmax, got.t);
+      // The hit names where the traversal read its triangle; shading reads the vertices there (make_surface_hit).
+      ASSERT_NE(got.vertices, nullptr);
+      for (int k = 0; k < 3; ++k) ASSERT_EQ(tri_vertex(got.vertices, k), tv[3 * got.prim + k]) << "ray " << i;
       if (got.prim != want.prim) {
         // Rays aimed at a shared vertex or edge hit several triangles within rounding of each other; the one that
         // counts as closest can depend on the order they are tested in. The hit found must be real and as close.
@@ -216,6 +219,27 @@ TEST(Bvh8, ClosestAndAnyHitOnAClosedMeshEqualBruteForce) {
     EXPECT_GT(hits, 1500);
     EXPECT_LT(ties, 100);
   }
+}
+
+// After a refit the leaf blocks hold the moved vertices, and a hit's vertices are those of its triangle, bit for
+// bit, in every lane (rays through each triangle's centroid hit that triangle, whatever lane it sits in).
+TEST(Bvh8, HitVerticesAreTheTrianglesOwnAfterARefit) {
+  std::vector<vec3> tv = knot_triangles(60, 16);
+  TraceGeometry g = make_trace_geometry(tv, {});
+  for (vec3& v : tv) v = 1.5f * v + vec3(0.25f, -2.0f, 1.0f);
+  refit_trace_geometry(g, tv, {});
+  int checked = 0;
+  for (uint32_t t = 0; t < tv.size() / 3; ++t) {
+    const vec3 c = (tv[3 * t] + tv[3 * t + 1] + tv[3 * t + 2]) / 3.0f;
+    const vec3 n = glm::cross(tv[3 * t + 1] - tv[3 * t], tv[3 * t + 2] - tv[3 * t]);
+    if (!(glm::length(n) > 0.0f)) continue;
+    Ray ray{c + 1e-3f * glm::normalize(n), -glm::normalize(n), kInfinity};
+    Hit hit;
+    if (!intersect_closest(g, ray, hit) || hit.prim != t) continue;
+    for (int k = 0; k < 3; ++k) ASSERT_EQ(tri_vertex(hit.vertices, k), tv[3 * t + k]) << "triangle " << t;
+    ++checked;
+  }
+  EXPECT_GT(checked, int(tv.size() / 3) * 9 / 10);
 }
 
 TEST(Bvh8, ParallelBuildIsDeterministic) {
