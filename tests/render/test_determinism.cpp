@@ -18,12 +18,18 @@ Film render(const RenderScene& rs, RenderParams params, int threads, int frames)
   return film;
 }
 
+/// A small image of 2 samples a frame.
+RenderParams small_params(int width, int height) {
+  RenderParams params;
+  params.width = width;
+  params.height = height;
+  params.spp_per_frame = 2;
+  return params;
+}
+
 TEST(Determinism, ThreadCountDoesNotChangeTheImage) {
   RenderScene rs = make_render_scene(test::make_test_cornell());
-  RenderParams params;
-  params.width = 40;
-  params.height = 30;
-  params.spp_per_frame = 2;
+  const RenderParams params = small_params(40, 30);
   Film one = render(rs, params, 1, 3);
   Film two = render(rs, params, 2, 3);
   Film five = render(rs, params, 5, 3);
@@ -36,10 +42,7 @@ TEST(Determinism, ThreadCountDoesNotChangeTheImage) {
 // by one in the same order, bit for bit, for any frame list (a rank's frames are not contiguous).
 TEST(Determinism, FramesInOnePassGiveTheFilmOfTheFramesInTurn) {
   RenderScene rs = make_render_scene(test::make_test_cornell());
-  RenderParams params;
-  params.width = 33;
-  params.height = 21;
-  params.spp_per_frame = 2;
+  const RenderParams params = small_params(33, 21);
   const std::vector<uint32_t> frames = {4, 1, 7};
   Renderer renderer(2);
   Film in_turn(params.width, params.height), one_pass(params.width, params.height);
