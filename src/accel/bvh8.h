@@ -60,6 +60,9 @@ struct alignas(32) Tri4 {
 };
 inline constexpr uint32_t kInvalidPrim = 0xffffffffu;
 
+/// Vertex k of a block's lane given as &v[0][0][lane]: v[k][a][lane] lies 12 k + 4 a floats further.
+inline vec3 lane_vertex(const float* lane, int k) { return vec3(lane[12 * k], lane[12 * k + 4], lane[12 * k + 8]); }
+
 /// The prim id of a block's lane given as &v[0][0][lane]: prim[lane] lies offsetof(Tri4, prim) bytes further.
 inline uint32_t lane_prim(const float* lane) {
   uint32_t prim;

@@ -18,15 +18,10 @@ struct Hit {
   uint32_t prim = 0;  ///< primitive id (see TraceGeometry)
   float b1 = 0, b2 = 0;  ///< barycentrics of vertices 1 and 2 for triangles
   /// A hit triangle's vertices where the traversal just read them, in cache: its lane of the BVH leaf block,
-  /// &Tri4::v[0][0][lane], so vertex k's axis a is at [12 k + 4 a] (tri_vertex). The same floats as the vertex
-  /// array the tree was built or refitted from. Null for spheres.
+  /// &Tri4::v[0][0][lane], read with lane_vertex (bvh8.h). The same floats as the vertex array the tree was built
+  /// or refitted from. Null for spheres.
   const float* vertices = nullptr;
 };
-
-/// Vertex k of the triangle of a Hit with vertices.
-inline vec3 tri_vertex(const float* vertices, int k) {
-  return vec3(vertices[12 * k], vertices[12 * k + 4], vertices[12 * k + 8]);
-}
 
 /// Figures about the acceleration structure, for stats output and benchmarks.
 struct TraceStats {

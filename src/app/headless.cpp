@@ -138,8 +138,9 @@ LoopResult render_single(const AppOptions& options, const RenderScene& rs, Rende
     if (options.max_spp) p.spp_per_frame = std::min(p.spp_per_frame, *options.max_spp - film.spp());
     Clock::time_point t0 = Clock::now();
     film.render_frame(renderer, rs, p, run.counters, nullptr, frames);
-    frame_seconds = seconds_since(t0) / frames;
-    render_seconds += frame_seconds * frames;
+    const double pass_seconds = seconds_since(t0);
+    render_seconds += pass_seconds;
+    frame_seconds = pass_seconds / frames;
     run.frames = film.frames();
     run.spp = film.spp();
     if (!options.error_csv.empty()) append_error_row(error_csv, run, render_seconds, film.film(), reference);

@@ -201,7 +201,7 @@ TEST(Bvh8, ClosestAndAnyHitOnAClosedMeshEqualBruteForce) {
       ASSERT_EQ(r.tmax, got.t);
       // The hit names where the traversal read its triangle; shading reads the vertices there (make_surface_hit).
       ASSERT_NE(got.vertices, nullptr);
-      for (int k = 0; k < 3; ++k) ASSERT_EQ(tri_vertex(got.vertices, k), tv[3 * got.prim + k]) << "ray " << i;
+      for (int k = 0; k < 3; ++k) ASSERT_EQ(lane_vertex(got.vertices, k), tv[3 * got.prim + k]) << "ray " << i;
       if (got.prim != want.prim) {
         // Rays aimed at a shared vertex or edge hit several triangles within rounding of each other; the one that
         // counts as closest can depend on the order they are tested in. The hit found must be real and as close.
@@ -236,7 +236,7 @@ TEST(Bvh8, HitVerticesAreTheTrianglesOwnAfterARefit) {
     Ray ray{c + 1e-3f * glm::normalize(n), -glm::normalize(n), kInfinity};
     Hit hit;
     if (!intersect_closest(g, ray, hit) || hit.prim != t) continue;
-    for (int k = 0; k < 3; ++k) ASSERT_EQ(tri_vertex(hit.vertices, k), tv[3 * t + k]) << "triangle " << t;
+    for (int k = 0; k < 3; ++k) ASSERT_EQ(lane_vertex(hit.vertices, k), tv[3 * t + k]) << "triangle " << t;
     ++checked;
   }
   EXPECT_GT(checked, int(tv.size() / 3) * 9 / 10);
