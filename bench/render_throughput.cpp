@@ -1,6 +1,9 @@
 // End-to-end throughput: spp/s and Mrays/s of the renderer on the built-in scenes (and the bunny when present),
-// with 1 thread and all threads. Prints a table and writes CSV.
+// with 1 thread and all threads, rendering frames in passes as `ptview --frames N` does (the largest pass is
+// reported). Prints a table and writes CSV.
 //   build/bench/bench_render_throughput [--size 512] [--seconds 5] [--csv out.csv] [--max-depth 8]
+//                                       [--max-frames-per-pass 16]   (1: a frame per pass, as before round 13)
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstring>
@@ -10,6 +13,7 @@
 #include <thread>
 #include <vector>
 
+#include "render/adaptive.h"
 #include "render/renderer.h"
 #include "scene/load.h"
 
@@ -22,10 +26,13 @@ struct Row {
   int threads;
   double build_ms, spp_per_s, mrays_per_s;
   uint64_t triangles;
+  int frames_per_pass;
 };
 
+constexpr double kPassSeconds = 0.25;
+
 Row measure(const std::string& name, const Scene& scene, int threads, int size, double seconds, int max_depth,
-            bool generic = false) {
+            int max_frames_per_pass, bool generic = false) {
   RenderScene rs = make_render_scene(scene);
   RenderParams params;
   params.width = params.height = size;
@@ -37,19 +44,35 @@ Row measure(const std::string& name, const Scene& scene, int threads, int size, 
   RenderCounters counters;
   auto start = std::chrono::steady_clock::now();
   double elapsed = 0;
-  int frames = 0;
+  int frames = 0, max_pass = 1;
+  std::vector<uint32_t> numbers;
   while (elapsed < seconds || frames < 2) {
-    renderer.render_frame(rs, params, film, uint32_t(frames++), counters);
+    // Passes of several frames, as `ptview --frames N` renders them (app/headless.cpp): about kPassSeconds at the
+    // measured time per frame, at most kMaxFramesPerPass; the first pass is one frame, to measure it.
+    const int pass = frames == 0 ? 1 : std::clamp(int(kPassSeconds / (elapsed / frames)), 1, max_frames_per_pass);
+    numbers.resize(size_t(pass));
+    for (int k = 0; k < pass; ++k) numbers[size_t(k)] = uint32_t(frames + k);
+    renderer.render_frames(rs, params, film, numbers.data(), pass, counters);
+    frames += pass;
+    max_pass = std::max(max_pass, pass);
     elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   }
-  return {name, renderer.thread_count(), rs.trace().stats.build_ms, frames / elapsed, counters.rays() / elapsed * 1e-6,
-          rs.triangle_count()};
+  const double spp_per_s = frames / elapsed, mrays_per_s = counters.rays() / elapsed * 1e-6;
+  return {name, renderer.thread_count(), rs.trace().stats.build_ms, spp_per_s, mrays_per_s, rs.triangle_count(),
+          max_pass};
+}
+
+void print_row(const Row& r, std::ofstream& out) {
+  std::printf("%-20s %8llu %8d %10.1f %10.2f %10.2f %12d\n", r.scene.c_str(), (unsigned long long)r.triangles,
+              r.threads, r.build_ms, r.spp_per_s, r.mrays_per_s, r.frames_per_pass);
+  out << r.scene << "," << r.triangles << "," << r.threads << "," << r.build_ms << "," << r.spp_per_s << ","
+      << r.mrays_per_s << "," << r.frames_per_pass << "\n";
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  int size = 512, max_depth = 8;
+  int size = 512, max_depth = 8, max_frames_per_pass = kMaxFramesPerPass;
   double seconds = 5;
   std::string csv = "render_throughput.csv";
   for (int i = 1; i + 1 < argc; i += 2) {
@@ -57,6 +80,7 @@ int main(int argc, char** argv) {
     else if (!std::strcmp(argv[i], "--seconds")) seconds = std::atof(argv[i + 1]);
     else if (!std::strcmp(argv[i], "--csv")) csv = argv[i + 1];
     else if (!std::strcmp(argv[i], "--max-depth")) max_depth = std::atoi(argv[i + 1]);
+    else if (!std::strcmp(argv[i], "--max-frames-per-pass")) max_frames_per_pass = std::max(1, std::atoi(argv[i + 1]));
   }
   std::vector<std::pair<std::string, Scene>> scenes;
   for (const char* name : {"cornell", "cornell-glass", "cornell-mirror", "cornell-spheres", "cornell-large-mesh"}) {
@@ -69,16 +93,14 @@ int main(int argc, char** argv) {
     if (s) scenes.emplace_back("bunny", std::move(*s));
   }
   int all = int(std::max(1u, std::thread::hardware_concurrency()));
-  std::printf("%-20s %8s %8s %10s %10s %10s\n", "scene", "tris", "threads", "build ms", "spp/s", "Mrays/s");
+  std::printf("%-20s %8s %8s %10s %10s %10s %12s\n", "scene", "tris", "threads", "build ms", "spp/s", "Mrays/s",
+              "frames/pass");
   std::ofstream out(csv);
-  out << "scene,triangles,threads,build_ms,spp_per_s,mrays_per_s\n";
+  out << "scene,triangles,threads,build_ms,spp_per_s,mrays_per_s,frames_per_pass\n";
   for (auto& [name, scene] : scenes) {
     for (int t : {1, all}) {
-      Row r = measure(name, scene, t, size, seconds, max_depth);
-      std::printf("%-20s %8llu %8d %10.1f %10.2f %10.2f\n", r.scene.c_str(), (unsigned long long)r.triangles,
-                  r.threads, r.build_ms, r.spp_per_s, r.mrays_per_s);
-      out << r.scene << "," << r.triangles << "," << r.threads << "," << r.build_ms << "," << r.spp_per_s << ","
-          << r.mrays_per_s << "\n";
+      Row r = measure(name, scene, t, size, seconds, max_depth, max_frames_per_pass);
+      print_row(r, out);
       if (all == 1) break;
     }
   }
@@ -86,11 +108,9 @@ int main(int argc, char** argv) {
   for (auto& [name, scene] : scenes) {
     if (name != "cornell") continue;
     for (bool generic : {false, true}) {
-      Row r = measure(name + (generic ? " generic" : " special"), scene, 1, size, seconds, max_depth, generic);
-      std::printf("%-20s %8llu %8d %10.1f %10.2f %10.2f\n", r.scene.c_str(), (unsigned long long)r.triangles,
-                  r.threads, r.build_ms, r.spp_per_s, r.mrays_per_s);
-      out << r.scene << "," << r.triangles << "," << r.threads << "," << r.build_ms << "," << r.spp_per_s << ","
-          << r.mrays_per_s << "\n";
+      Row r = measure(name + (generic ? " generic" : " special"), scene, 1, size, seconds, max_depth,
+                      max_frames_per_pass, generic);
+      print_row(r, out);
     }
   }
   std::printf("wrote %s\n", csv.c_str());
