@@ -48,8 +48,9 @@ Row measure(const std::string& name, const Scene& scene, int threads, int size, 
   std::vector<uint32_t> numbers;
   while (elapsed < seconds || frames < 2) {
     // Passes of several frames, as `ptview --frames N` renders them (app/headless.cpp): about kPassSeconds at the
-    // measured time per frame, at most kMaxFramesPerPass; the first pass is one frame, to measure it.
-    const int pass = frames == 0 ? 1 : std::clamp(int(kPassSeconds / (elapsed / frames)), 1, max_frames_per_pass);
+    // measured time per frame; the first pass is one frame, to measure it.
+    const int pass =
+        std::min(frames_for_pass_time(frames > 0 ? elapsed / frames : 0.0, kPassSeconds), max_frames_per_pass);
     numbers.resize(size_t(pass));
     for (int k = 0; k < pass; ++k) numbers[size_t(k)] = uint32_t(frames + k);
     renderer.render_frames(rs, params, film, numbers.data(), pass, counters);

@@ -87,12 +87,15 @@ int ProgressiveFilm::frames_to_check(int spp_per_frame) const {
   return std::max(1, (next_check_ - level_ + spp_per_frame - 1) / spp_per_frame);  // level_ < next_check_ here
 }
 
+int frames_for_pass_time(double frame_seconds, double pass_seconds) {
+  if (!(frame_seconds > 0.0)) return 1;
+  return std::max(1, int(std::min(double(kMaxFramesPerPass), pass_seconds / frame_seconds)));
+}
+
 int ProgressiveFilm::frames_per_pass(int spp_per_frame, double frame_seconds, double pass_seconds, int frames_left,
                                      int spp_left) const {
-  if (!(frame_seconds > 0.0)) return 1;
-  double n = std::min(double(kMaxFramesPerPass), pass_seconds / frame_seconds);
-  n = std::min({n, double(frames_left), std::ceil(double(spp_left) / spp_per_frame),
-                double(frames_to_check(spp_per_frame))});
+  const double n = std::min({double(frames_for_pass_time(frame_seconds, pass_seconds)), double(frames_left),
+                             std::ceil(double(spp_left) / spp_per_frame), double(frames_to_check(spp_per_frame))});
   return std::max(1, int(n));
 }
 

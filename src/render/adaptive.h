@@ -27,6 +27,12 @@ struct AdaptiveParams {
 inline constexpr int kAdaptiveCheckInterval = 16;
 inline constexpr int kMaxFramesPerPass = 16;
 
+/// The frames of `frame_seconds` each that fill a pass of about `pass_seconds`: at least 1 (also while the frame
+/// time is unknown, <= 0), at most kMaxFramesPerPass. ProgressiveFilm::frames_per_pass says why a pass takes
+/// several frames; every loop that renders passes (headless, the viewer's session, the offload's ranks, the
+/// throughput bench) sizes them here.
+int frames_for_pass_time(double frame_seconds, double pass_seconds);
+
 /// Cycles' automatic minimum: ceil(16 / T^0.3), at least 4 (T = 0.1 -> 32, 0.01 -> 64, 0.001 -> 128), rounded up
 /// to an even number so that both halves of the estimator hold as many samples.
 int auto_min_spp(double noise_threshold);

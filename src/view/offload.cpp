@@ -8,6 +8,7 @@
 #include <thread>
 #include <type_traits>
 
+#include "render/adaptive.h"
 #include "render/render_scene.h"
 #include "render/renderer.h"
 
@@ -17,12 +18,11 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-/// Sample indices of rank r start at r * 2^24: no rank reaches another's range before 16 million samples per pixel.
-constexpr int kRankSampleShift = 24;
 /// A worker starts on a new epoch this long after it arrived: rank 0's first look at the epoch (a low-resolution
 /// preview of about 10 ms, render/session.h) then has the cores to itself, which keeps the restart latency of
 /// one process, and during a drag (an epoch every UI frame) no worker renders a frame that is stale at once.
 constexpr double kEpochSettleSeconds = 0.02;
+constexpr double kOffloadPassSeconds = 1.0 / 30.0;  ///< a worker's pass, as rank 0's session's (session.cpp)
 /// A worker sends its accumulation at most every 30 ms per million pixels (16 bytes a pixel; rank 0 replaces the
 /// previous one, only the newest counts): a large image does not keep rank 0's UI thread busy receiving.
 double send_interval_seconds(const Film& film) { return 0.03 * std::max(1.0, double(film.pixel_count()) * 1e-6); }
@@ -156,27 +156,7 @@ std::optional<Geometry> decode_epoch(const std::vector<uint8_t>& bytes, uint64_t
   return geometry;
 }
 
-struct RankResult {
-  uint64_t epoch = 0;
-  int32_t rank = 0, width = 0, height = 0, spp = 0;
-  double seconds = 0.0;
-  std::vector<float> sum;
-  std::vector<uint32_t> count;
-};
 
-bool decode_result(const std::vector<uint8_t>& bytes, RankResult& out) {
-  Reader r{bytes};
-  r.pod(out.epoch);
-  r.pod(out.rank);
-  r.pod(out.width);
-  r.pod(out.height);
-  r.pod(out.spp);
-  r.pod(out.seconds);
-  r.vec(out.sum);
-  r.vec(out.count);
-  const size_t pixels = size_t(std::max(0, out.width)) * size_t(std::max(0, out.height));
-  return r.ok && out.sum.size() == 3 * pixels && out.count.size() == pixels;
-}
 
 }  // namespace
 
@@ -191,6 +171,20 @@ std::vector<uint8_t> encode_offload_result(uint64_t epoch, int rank, int spp, do
   w.vec(std::vector<float>(film.sum.begin(), film.sum.end()));
   w.vec(film.count);
   return std::move(w.bytes);
+}
+
+bool decode_offload_result(const std::vector<uint8_t>& bytes, OffloadResult& out) {
+  Reader r{bytes};
+  r.pod(out.epoch);
+  r.pod(out.rank);
+  r.pod(out.width);
+  r.pod(out.height);
+  r.pod(out.spp);
+  r.pod(out.seconds);
+  r.vec(out.sum);
+  r.vec(out.count);
+  const size_t pixels = size_t(std::max(0, out.width)) * size_t(std::max(0, out.height));
+  return r.ok && out.sum.size() == 3 * pixels && out.count.size() == pixels;
 }
 
 OffloadRoot::~OffloadRoot() {
@@ -213,8 +207,8 @@ bool OffloadRoot::poll() {
   if (!channel_) return false;
   bool fresh = false;
   for (const std::vector<uint8_t>& bytes : channel_->poll_results()) {
-    RankResult res;
-    if (!decode_result(bytes, res) || res.rank < 1 || res.rank > int(remote_.size())) continue;
+    OffloadResult res;
+    if (!decode_offload_result(bytes, res) || res.rank < 1 || res.rank > int(remote_.size())) continue;
     if (res.epoch != posted_epoch_) continue;  // stale: an edit came after it was rendered
     Remote& r = remote_[size_t(res.rank - 1)];
     r.epoch = res.epoch;
@@ -279,7 +273,7 @@ int run_offload_worker(OffloadChannel& channel, int rank, int threads) {
   Film film;
   std::vector<uint32_t> first;  // zeros: every pixel's range starts at the rank's base
   RenderCounters counters;
-  int frames = 0;
+  int frames = 0, pass_frames = 0;  // frames rendered; frames of the pass in flight
   double seconds = 0.0;
   std::atomic<bool> cancel{false};
   std::future<bool> job;
@@ -320,7 +314,7 @@ int run_offload_worker(OffloadChannel& channel, int rank, int threads) {
     if (job.valid() && job.wait_for(std::chrono::seconds(0)) == std::future_status::ready) {
       bool done = job.get();
       if (done) {
-        ++frames;
+        frames += pass_frames;
         seconds += std::chrono::duration<double>(Clock::now() - job_start).count();
         if (frames == 1 || std::chrono::duration<double>(Clock::now() - last_send).count() >= send_interval_seconds(film)) {
           if (channel.send_result(encode_offload_result(epoch, rank, frames * params.spp_per_frame, seconds, film)))
@@ -330,11 +324,19 @@ int run_offload_worker(OffloadChannel& channel, int rank, int threads) {
     }
     const int64_t next = int64_t(frames) * params.spp_per_frame;
     const bool settled = std::chrono::duration<double>(Clock::now() - epoch_start).count() >= kEpochSettleSeconds;
-    if (rs && settled && !job.valid() && next + params.spp_per_frame < (int64_t(1) << kRankSampleShift)) {
+    // Several frames to a pass, as rank 0's session renders them (about kOffloadPassSeconds; adaptive.h): each
+    // pixel's samples of the pass are taken one after the other, the film is the same as frame by frame.
+    const int64_t room = ((int64_t(1) << kRankSampleShift) - 1 - next) / params.spp_per_frame;  // stay in range
+    const int frames_next = int(std::min<int64_t>(
+        frames_for_pass_time(frames > 0 ? seconds / frames : 0.0, kOffloadPassSeconds), room));
+    if (rs && settled && !job.valid() && frames_next > 0) {
+      pass_frames = frames_next;
       job_start = Clock::now();
       const uint32_t offset = base + uint32_t(next);
-      job = std::async(std::launch::async, [&, offset] {
-        return renderer.render_range(*rs, params, film, nullptr, first.data(), offset, counters, &cancel);
+      RenderParams pass = params;
+      pass.spp_per_frame = pass_frames * params.spp_per_frame;
+      job = std::async(std::launch::async, [&, offset, pass] {
+        return renderer.render_range(*rs, pass, film, nullptr, first.data(), offset, counters, &cancel);
       });
     }
     // Poll about every millisecond: a new epoch cancels the frame in flight within a tile.

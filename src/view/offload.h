@@ -23,6 +23,9 @@
 
 namespace pt {
 
+/// Sample indices of rank r start at r * 2^24: no rank reaches another's range before 16 million samples per pixel.
+inline constexpr int kRankSampleShift = 24;
+
 /// One rank's latest contribution to the current epoch, for the Stats panel and the stats JSON.
 struct RankContribution {
   int rank = 0;
@@ -71,6 +74,17 @@ class OffloadRoot {
 
 /// A worker's message to rank 0: its accumulation `film` of epoch `epoch` (spp samples per pixel, in `seconds`).
 std::vector<uint8_t> encode_offload_result(uint64_t epoch, int rank, int spp, double seconds, const Film& film);
+
+/// That message read back: the film's per-pixel sums (3 a pixel, as float) and finite-sample counts.
+struct OffloadResult {
+  uint64_t epoch = 0;
+  int32_t rank = 0, width = 0, height = 0, spp = 0;
+  double seconds = 0.0;
+  std::vector<float> sum;
+  std::vector<uint32_t> count;
+};
+/// False for a malformed message.
+bool decode_offload_result(const std::vector<uint8_t>& bytes, OffloadResult& out);
 
 /// Ranks 1..K-1 of a viewer run: renders the epochs rank 0 posts until it posts the end; returns the exit code.
 /// `threads` worker threads (0: all cores).

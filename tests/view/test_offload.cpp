@@ -3,11 +3,13 @@
 // dropped on arrival; every restart posts one epoch. (Under mpirun: tests/view/test_viewer.cpp, Offload*.)
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <utility>
 #include <thread>
 
 #include "render/render_scene.h"
+#include "render/renderer.h"
 #include "scene/load.h"
 #include "view/offload.h"
 
@@ -98,6 +100,79 @@ TEST(Offload, RankZeroShowsTheExactMergeAndDropsStaleEpochs) {
   // Destroying the root ends the workers: an empty post.
   ASSERT_EQ(channel.posted.size(), 3u);
   EXPECT_TRUE(channel.posted.back().empty());
+}
+
+/// A worker's side of the wire: rank 0's epoch on the first poll, then the end once the worker has sent a result
+/// of at least `stop_spp` samples.
+struct WorkerChannel final : OffloadChannel {
+  std::vector<uint8_t> epoch;
+  int stop_spp;
+  std::vector<std::vector<uint8_t>> sent;
+  bool posted = false;
+  WorkerChannel(std::vector<uint8_t> e, int stop) : epoch(std::move(e)), stop_spp(stop) {}
+  void post(std::vector<uint8_t>) override {}
+  std::vector<std::vector<uint8_t>> poll_results() override { return {}; }
+  void close() override {}
+  std::vector<std::vector<uint8_t>> poll_posts() override {
+    if (!posted) {
+      posted = true;
+      return {epoch};
+    }
+    OffloadResult last;
+    if (!sent.empty() && decode_offload_result(sent.back(), last) && last.spp >= stop_spp) return {{}};
+    return {};
+  }
+  bool send_result(std::vector<uint8_t> m) override {
+    sent.push_back(std::move(m));
+    return true;
+  }
+  void finish() override {}
+};
+
+TEST(Offload, WorkerPassesGiveTheFilmOfItsSampleRange) {
+  // A worker renders several frames to a pass (about 1/30 s; these 16x16 frames take well under a millisecond, so
+  // passes of up to kMaxFramesPerPass). Every result it sends must be the film of exactly its rank's first `spp`
+  // samples of every pixel, as one render of that range gives it: no sample skipped, repeated or from another
+  // rank's range.
+  Result<Scene> scene = load_builtin_scene("cornell");
+  ASSERT_TRUE(scene.ok());
+  RenderParams params;
+  params.width = params.height = 16;
+  params.max_depth = 4;
+  Wire root_wire;
+  {
+    OffloadRoot root(std::make_unique<FakeChannel>(&root_wire));
+    root.set_ranks(3);
+    root.post_epoch(7, params, *scene, 1, 0);
+  }
+  ASSERT_GE(root_wire.posted.size(), 1u);
+  constexpr int kRank = 2, kStopSpp = 200;
+  WorkerChannel channel(root_wire.posted[0], kStopSpp);
+  EXPECT_EQ(run_offload_worker(channel, kRank, 2), 0);
+  ASSERT_GE(channel.sent.size(), 2u);
+  const RenderScene rs = make_render_scene(*scene);
+  Renderer renderer(1);
+  int last_spp = 0;
+  for (const std::vector<uint8_t>& bytes : channel.sent) {
+    OffloadResult res;
+    ASSERT_TRUE(decode_offload_result(bytes, res));
+    EXPECT_EQ(res.epoch, 7u);
+    EXPECT_EQ(res.rank, kRank);
+    ASSERT_EQ(res.width, 16);
+    EXPECT_GT(res.spp, last_spp);
+    last_spp = res.spp;
+    Film direct(16, 16);
+    RenderParams p = params;
+    p.spp_per_frame = res.spp;
+    RenderCounters c;
+    std::vector<uint32_t> first(direct.pixel_count(), 0);
+    renderer.render_range(rs, p, direct, nullptr, first.data(), uint32_t(kRank) << kRankSampleShift, c);
+    for (size_t i = 0; i < direct.pixel_count(); ++i) {
+      ASSERT_EQ(res.count[i], direct.count[i]) << "pixel " << i << " at " << res.spp << " spp";
+      for (int k = 0; k < 3; ++k) ASSERT_EQ(res.sum[3 * i + size_t(k)], float(direct.sum[3 * i + size_t(k)])) << i;
+    }
+  }
+  EXPECT_GE(last_spp, kStopSpp);
 }
 
 }  // namespace
