@@ -192,8 +192,8 @@ LoopResult render_sharded(const AppOptions& options, const RenderScene& rs, Rend
 
 /// Several ranks with adaptive sampling or --max-spp: every rank holds the combined film's state (each pixel's next
 /// sample index `first`, the active mask, the sample level) and takes the single-process loop's steps (render_single)
-/// in rounds of up to `ranks` of its frames, rank r rendering the r-th frame of the round: the samples
-/// first[p] + offset .. of every active pixel. A round ends early at a convergence check, where rank 0 sums the films
+/// in rounds of up to `ranks` x kMaxFramesPerPass of its frames, rank r rendering the r-th of `ranks` runs of
+/// consecutive frames of the round in one pass: the samples first[p] + offset .. of every active pixel. A round ends early at a convergence check, where rank 0 sums the films
 /// (in a fixed order, dist/cluster.h) and tests convergence, and broadcasts the active mask: one decision, taken once,
 /// so every rank continues with the same mask and stops in the same round. The samples are then those of one
 /// process; only the order of their summation differs.
@@ -215,24 +215,30 @@ LoopResult render_sharded_adaptive(const AppOptions& options, const RenderScene&
   auto more = [&](int lvl, int fr) {
     return (frames_total == 0 || fr < frames_total) && !(options.max_spp && lvl >= *options.max_spp);
   };
+  // Up to kMaxFramesPerPass frames a rank a round, rendered in one pass (as render_sharded does), unless a CSV row
+  // or a time-limit check is due every round. The same on every rank: the plan below must agree.
+  const int frames_per_rank = options.error_csv.empty() && !options.time_limit ? kMaxFramesPerPass : 1;
   while (more(level, frames) && !(checked && active_count == 0)) {
     Clock::time_point t0 = Clock::now();
     // The single-process frames of this round: (sample offset, spp) each, ending at a check or a limit.
     std::vector<std::pair<int, int>> plan;
     int lvl = level;
-    while (int(plan.size()) < ranks && more(lvl, frames + int(plan.size())) && lvl < next_check) {
+    while (int(plan.size()) < ranks * frames_per_rank && more(lvl, frames + int(plan.size())) && lvl < next_check) {
       int spp = params.spp_per_frame;
       if (options.max_spp) spp = std::min(spp, *options.max_spp - lvl);
       plan.emplace_back(lvl - level, spp);
       lvl += spp;
     }
-    if (size_t(cluster.rank()) < plan.size()) {
+    // Rank r takes the r-th of `ranks` near-equal runs of consecutive frames: one range of samples, one pass.
+    const size_t begin = plan.size() * size_t(cluster.rank()) / size_t(ranks);
+    const size_t end = plan.size() * size_t(cluster.rank() + 1) / size_t(ranks);
+    if (begin < end) {
       RenderParams p = params;
-      auto [offset, spp] = plan[size_t(cluster.rank())];
-      p.spp_per_frame = spp;
+      p.spp_per_frame = 0;
+      for (size_t i = begin; i < end; ++i) p.spp_per_frame += plan[i].second;
       renderer.render_range(rs, p, s.film, adaptive.enabled() ? active.data() : nullptr, first.data(),
-                            uint32_t(offset), run.counters);
-      s.mine.spp += spp;
+                            uint32_t(plan[begin].first), run.counters);
+      s.mine.spp += p.spp_per_frame;
       s.mine.seconds += seconds_since(t0);
     }
     for (size_t q = 0; q < pixels; ++q) first[q] += active[q] ? uint32_t(lvl - level) : 0u;
