@@ -104,6 +104,19 @@ void mesh_fields(Archive& a, M& m) {
   a.vec(m.materials);
 }
 
+/// A worker's result in message order (OffloadResult), for Writer and Reader alike.
+template <class Archive, class R>
+void result_fields(Archive& a, R& r) {
+  a.pod(r.epoch);
+  a.pod(r.rank);
+  a.pod(r.width);
+  a.pod(r.height);
+  a.pod(r.spp);
+  a.pod(r.seconds);
+  a.vec(r.sum);
+  a.vec(r.count);
+}
+
 std::vector<uint8_t> encode_epoch(uint64_t epoch, const RenderParams& params, const Scene& scene, Geometry geometry) {
   Writer w;
   w.pod(epoch);
@@ -161,28 +174,16 @@ std::optional<Geometry> decode_epoch(const std::vector<uint8_t>& bytes, uint64_t
 }  // namespace
 
 std::vector<uint8_t> encode_offload_result(uint64_t epoch, int rank, int spp, double seconds, const Film& film) {
+  const OffloadResult res{epoch, int32_t(rank), int32_t(film.width), int32_t(film.height), int32_t(spp), seconds,
+                          std::vector<float>(film.sum.begin(), film.sum.end()), film.count};
   Writer w;
-  w.pod(epoch);
-  w.pod(int32_t(rank));
-  w.pod(int32_t(film.width));
-  w.pod(int32_t(film.height));
-  w.pod(int32_t(spp));
-  w.pod(seconds);
-  w.vec(std::vector<float>(film.sum.begin(), film.sum.end()));
-  w.vec(film.count);
+  result_fields(w, res);
   return std::move(w.bytes);
 }
 
 bool decode_offload_result(const std::vector<uint8_t>& bytes, OffloadResult& out) {
   Reader r{bytes};
-  r.pod(out.epoch);
-  r.pod(out.rank);
-  r.pod(out.width);
-  r.pod(out.height);
-  r.pod(out.spp);
-  r.pod(out.seconds);
-  r.vec(out.sum);
-  r.vec(out.count);
+  result_fields(r, out);
   const size_t pixels = size_t(std::max(0, out.width)) * size_t(std::max(0, out.height));
   return r.ok && out.sum.size() == 3 * pixels && out.count.size() == pixels;
 }
