@@ -71,7 +71,7 @@ struct Reader {
       return;
     }
     v.resize(size_t(n));
-    std::memcpy(v.data(), bytes.data() + at, size_t(n) * sizeof(T));
+    if (n) std::memcpy(v.data(), bytes.data() + at, size_t(n) * sizeof(T));  // an empty vector's data() may be null
     at += size_t(n) * sizeof(T);
   }
   void str(std::string& s) {
