@@ -193,7 +193,8 @@ LoopResult render_sharded(const AppOptions& options, const RenderScene& rs, Rend
 /// Several ranks with adaptive sampling or --max-spp: every rank holds the combined film's state (each pixel's next
 /// sample index `first`, the active mask, the sample level) and takes the single-process loop's steps (render_single)
 /// in rounds of up to `ranks` x kMaxFramesPerPass of its frames, rank r rendering the r-th of `ranks` runs of
-/// consecutive frames of the round in one pass: the samples first[p] + offset .. of every active pixel. A round ends early at a convergence check, where rank 0 sums the films
+/// consecutive frames of the round in one pass: the samples first[p] + offset .. of every active pixel. A round
+/// ends early at a convergence check, where rank 0 sums the films
 /// (in a fixed order, dist/cluster.h) and tests convergence, and broadcasts the active mask: one decision, taken once,
 /// so every rank continues with the same mask and stops in the same round. The samples are then those of one
 /// process; only the order of their summation differs.

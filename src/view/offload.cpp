@@ -169,8 +169,6 @@ std::optional<Geometry> decode_epoch(const std::vector<uint8_t>& bytes, uint64_t
   return geometry;
 }
 
-
-
 }  // namespace
 
 std::vector<uint8_t> encode_offload_result(uint64_t epoch, int rank, int spp, double seconds, const Film& film) {
