@@ -29,8 +29,6 @@ struct Row {
   int frames_per_pass;
 };
 
-constexpr double kPassSeconds = 0.25;
-
 Row measure(const std::string& name, const Scene& scene, int threads, int size, double seconds, int max_depth,
             int max_frames_per_pass, bool generic = false) {
   RenderScene rs = make_render_scene(scene);
@@ -47,10 +45,10 @@ Row measure(const std::string& name, const Scene& scene, int threads, int size, 
   int frames = 0, max_pass = 1;
   std::vector<uint32_t> numbers;
   while (elapsed < seconds || frames < 2) {
-    // Passes of several frames, as `ptview --frames N` renders them (app/headless.cpp): about kPassSeconds at the
-    // measured time per frame; the first pass is one frame, to measure it.
-    const int pass =
-        std::min(frames_for_pass_time(frames > 0 ? elapsed / frames : 0.0, kPassSeconds), max_frames_per_pass);
+    // Passes of several frames, as `ptview --frames N` renders them (app/headless.cpp): about kHeadlessPassSeconds
+    // at the measured time per frame; the first pass is one frame, to measure it.
+    const int pass = std::min(frames_for_pass_time(frames > 0 ? elapsed / frames : 0.0, kHeadlessPassSeconds),
+                              max_frames_per_pass);
     numbers.resize(size_t(pass));
     for (int k = 0; k < pass; ++k) numbers[size_t(k)] = uint32_t(frames + k);
     renderer.render_frames(rs, params, film, numbers.data(), pass, counters);

@@ -104,18 +104,16 @@ struct ShardRun {
   }
 };
 
-/// Frames per pass over the tiles (ProgressiveFilm::frames_per_pass says why several). No one looks at the film
-/// between a headless run's frames unless it writes a CSV row per frame; a pass of about kPassSeconds keeps the
-/// progress line moving and --time-limit overrun by no more than a frame. The image is the same bit for bit.
+/// Frames per pass over the tiles (ProgressiveFilm::frames_per_pass says why several), about kHeadlessPassSeconds
+/// of them, or one when a CSV row is due every frame. The image is the same bit for bit.
 int frames_per_pass(const AppOptions& options, const ProgressiveFilm& film, double frame_seconds, double elapsed) {
-  constexpr double kPassSeconds = 0.25;
   constexpr int kAll = std::numeric_limits<int>::max();
   if (!options.error_csv.empty()) return 1;
   int frames_left = options.frames ? *options.frames - film.frames() : kAll;
   if (options.time_limit && frame_seconds > 0.0)
     frames_left = int(std::min(double(frames_left), std::max(1.0, (*options.time_limit - elapsed) / frame_seconds)));
   const int spp_left = options.max_spp ? *options.max_spp - film.spp() : kAll;
-  return film.frames_per_pass(options.render.spp_per_frame, frame_seconds, kPassSeconds, frames_left, spp_left);
+  return film.frames_per_pass(options.render.spp_per_frame, frame_seconds, kHeadlessPassSeconds, frames_left, spp_left);
 }
 
 /// One process: progressive frames through a ProgressiveFilm, ending at --frames, --max-spp, --time-limit, or when

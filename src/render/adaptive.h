@@ -26,6 +26,12 @@ struct AdaptiveParams {
 
 inline constexpr int kAdaptiveCheckInterval = 16;
 inline constexpr int kMaxFramesPerPass = 16;
+/// How long a pass lasts. Headless: no one looks at the film between frames, and a quarter second keeps the progress
+/// line moving and --time-limit overrun by no more than a frame (the throughput bench measures the same loop).
+/// Interactive (the viewer's session and the ranks that render for it): a pass of a display update still shows the
+/// image converge smoothly, and a restart cancels it at the next tile all the same.
+inline constexpr double kHeadlessPassSeconds = 0.25;
+inline constexpr double kInteractivePassSeconds = 1.0 / 30.0;
 
 /// The frames of `frame_seconds` each that fill a pass of about `pass_seconds`: at least 1 (also while the frame
 /// time is unknown, <= 0), at most kMaxFramesPerPass. ProgressiveFilm::frames_per_pass says why a pass takes

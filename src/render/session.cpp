@@ -179,13 +179,11 @@ void RenderSession::drive(std::stop_token stop) {
       scene = std::move(piloted);
       if (epoch_ != current) continue;
     }
-    // Frames faster than the display's updates go several to a pass (ProgressiveFilm::frames_per_pass), never past
-    // the target: a pass of about kPassSeconds still shows the image converge smoothly, and a restart cancels it at
-    // the next tile all the same.
-    constexpr double kPassSeconds = 1.0 / 30.0;
+    // Frames faster than the display's updates go several to a pass (ProgressiveFilm::frames_per_pass), about
+    // kInteractivePassSeconds of them, never past the target.
     const int target = target_spp_;
     const int pass_frames = film.frames_per_pass(params.spp_per_frame, frames > 0 ? seconds / frames : 0.0,
-                                                 kPassSeconds, std::numeric_limits<int>::max(),
+                                                 kInteractivePassSeconds, std::numeric_limits<int>::max(),
                                                  target > 0 ? target - film.spp() : std::numeric_limits<int>::max());
     RenderParams pass = params;
     pass.spp_per_frame = pass_frames * params.spp_per_frame;

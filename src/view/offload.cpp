@@ -22,7 +22,6 @@ using Clock = std::chrono::steady_clock;
 /// preview of about 10 ms, render/session.h) then has the cores to itself, which keeps the restart latency of
 /// one process, and during a drag (an epoch every UI frame) no worker renders a frame that is stale at once.
 constexpr double kEpochSettleSeconds = 0.02;
-constexpr double kOffloadPassSeconds = 1.0 / 30.0;  ///< a worker's pass, as rank 0's session's (session.cpp)
 /// A worker sends its accumulation at most every 30 ms per million pixels (16 bytes a pixel; rank 0 replaces the
 /// previous one, only the newest counts): a large image does not keep rank 0's UI thread busy receiving.
 double send_interval_seconds(const Film& film) { return 0.03 * std::max(1.0, double(film.pixel_count()) * 1e-6); }
@@ -323,13 +322,13 @@ int run_offload_worker(OffloadChannel& channel, int rank, int threads) {
     }
     const int64_t next = int64_t(frames) * params.spp_per_frame;
     const bool settled = std::chrono::duration<double>(Clock::now() - epoch_start).count() >= kEpochSettleSeconds;
-    // Several frames to a pass, as rank 0's session renders them (about kOffloadPassSeconds; adaptive.h): each
-    // pixel's samples of the pass are taken one after the other, the film is the same as frame by frame.
-    const int64_t room = ((int64_t(1) << kRankSampleShift) - 1 - next) / params.spp_per_frame;  // stay in range
-    const int frames_next = int(std::min<int64_t>(
-        frames_for_pass_time(frames > 0 ? seconds / frames : 0.0, kOffloadPassSeconds), room));
-    if (rs && settled && !job.valid() && frames_next > 0) {
-      pass_frames = frames_next;
+    // Several frames to a pass, as rank 0's session renders them (about kInteractivePassSeconds; adaptive.h): each
+    // pixel's samples of the pass are taken one after the other, the film is the same as frame by frame. The pass
+    // stays inside the rank's range of sample indices.
+    const int64_t room = ((int64_t(1) << kRankSampleShift) - 1 - next) / params.spp_per_frame;
+    if (rs && settled && !job.valid() && room > 0) {
+      pass_frames = int(std::min<int64_t>(
+          frames_for_pass_time(frames > 0 ? seconds / frames : 0.0, kInteractivePassSeconds), room));
       job_start = Clock::now();
       const uint32_t offset = base + uint32_t(next);
       RenderParams pass = params;
