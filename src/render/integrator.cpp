@@ -94,8 +94,9 @@ vec3 direct_light(const RenderScene& scene, const RenderParams& params, VertexLi
 /// mirrors or glass every vertex is diffuse, so the delta-BSDF branches are not compiled in; without a background
 /// escaping paths add nothing.
 template <bool kDelta, bool kBackground>
-vec3 trace_path_impl(const RenderScene& scene, const RenderParams& params, float first_spread, Ray ray,
-                     PixelSampler& sampler, RenderCounters& c) {
+vec3 trace_path_impl(const RenderScene& scene, const RenderParams& params, float first_spread, vec3 org, vec3 dir,
+                     float tmax, PixelSampler& sampler, RenderCounters& c) {
+  Ray ray{org, dir, tmax};
   vec3 radiance(0.0f);
   vec3 beta(1.0f);
   float eta_scale = 1.0f;
@@ -187,23 +188,18 @@ IntegratorKind resolve_integrator(IntegratorKind kind, LightSampling light_sampl
   return light_sampling == LightSampling::area ? IntegratorKind::mis : IntegratorKind::nee;
 }
 
-vec3 trace_path(const RenderScene& scene, const RenderParams& params, Ray ray, PixelSampler& sampler,
-                RenderCounters& c) {
-  return trace_path(scene, params, scene.auto_first_spread, ray, sampler, c);
-}
-
-vec3 trace_path(const RenderScene& scene, const RenderParams& params_in, float first_spread, Ray ray,
-                PixelSampler& sampler, RenderCounters& c) {
+vec3 trace_path(const RenderScene& scene, const RenderParams& params_in, float first_spread, vec3 org, vec3 dir,
+                float tmax, PixelSampler& sampler, RenderCounters& c) {
   RenderParams params = params_in;
   params.integrator = resolve_integrator(params.integrator, params.light_sampling);
   const bool delta = scene.features.has_delta || params.force_generic_kernel;
   const bool background = scene.features.has_background || params.force_generic_kernel;
   if (delta) {
-    return background ? trace_path_impl<true, true>(scene, params, first_spread, ray, sampler, c)
-                      : trace_path_impl<true, false>(scene, params, first_spread, ray, sampler, c);
+    return background ? trace_path_impl<true, true>(scene, params, first_spread, org, dir, tmax, sampler, c)
+                      : trace_path_impl<true, false>(scene, params, first_spread, org, dir, tmax, sampler, c);
   }
-  return background ? trace_path_impl<false, true>(scene, params, first_spread, ray, sampler, c)
-                    : trace_path_impl<false, false>(scene, params, first_spread, ray, sampler, c);
+  return background ? trace_path_impl<false, true>(scene, params, first_spread, org, dir, tmax, sampler, c)
+                    : trace_path_impl<false, false>(scene, params, first_spread, org, dir, tmax, sampler, c);
 }
 
 const char* kernel_name(const RenderScene& scene, const RenderParams& params) {

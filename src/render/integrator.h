@@ -9,13 +9,23 @@
 
 namespace pt {
 
-/// Radiance arriving along `ray` (from the camera). Counters are updated; the caller drops non-finite results.
-vec3 trace_path(const RenderScene& scene, const RenderParams& params, Ray ray, PixelSampler& sampler,
-                RenderCounters& counters);
-/// The same with the first non-delta vertex's automatic spread threshold given instead of the scene's
-/// (RenderScene::auto_first_spread): what the pilot of render/auto_light_sampling.h compares.
-vec3 trace_path(const RenderScene& scene, const RenderParams& params, float first_vertex_spread, Ray ray,
-                PixelSampler& sampler, RenderCounters& counters);
+/// Radiance arriving along the ray (org, dir, tmax) from the camera, with the first non-delta vertex's automatic
+/// spread threshold `first_vertex_spread` (RenderScene::auto_first_spread, or what the pilot of
+/// render/auto_light_sampling.h compares). Counters are updated; the caller drops non-finite results.
+/// The ray comes as vectors, not as a Ray: a struct of 28 bytes is passed in memory, and reading it back as 16-byte
+/// words right after the caller wrote it field by field stalled store forwarding on every pixel sample (this
+/// function was 10% of a frame where most camera rays escape; docs/BENCHMARKS.md, fourteenth round). Vectors and
+/// floats travel in registers.
+vec3 trace_path(const RenderScene& scene, const RenderParams& params, float first_vertex_spread, vec3 org, vec3 dir,
+                float tmax, PixelSampler& sampler, RenderCounters& counters);
+inline vec3 trace_path(const RenderScene& scene, const RenderParams& params, float first_vertex_spread,
+                       const Ray& ray, PixelSampler& sampler, RenderCounters& counters) {
+  return trace_path(scene, params, first_vertex_spread, ray.org, ray.dir, ray.tmax, sampler, counters);
+}
+inline vec3 trace_path(const RenderScene& scene, const RenderParams& params, const Ray& ray, PixelSampler& sampler,
+                       RenderCounters& counters) {
+  return trace_path(scene, params, scene.auto_first_spread, ray.org, ray.dir, ray.tmax, sampler, counters);
+}
 
 /// The integrator `kind` stands for: itself, or for automatic, nee unless lights are sampled by area. Why: every
 /// light has a solid-angle sampling (spheres by their cone, rectangles, parallelograms and triangles by spherical
