@@ -5,12 +5,16 @@
 
 namespace pt {
 
-/// The camera's orthonormal frame and image-plane scale, computed once per render.
+/// The camera's orthonormal frame and image-plane scale, computed once per render. The README's
+/// x = (2(i+u)/W - 1) tan(fov/2) W/H is kept as x = (i+u) x_step - x_half with x_step = 2 tan(fov/2) W/H / W and
+/// x_half = tan(fov/2) W/H (y likewise): the same plane point to rounding, without the two divisions per camera ray
+/// that were the start of every path's dependent chain (docs/BENCHMARKS.md, fourteenth round).
 struct CameraRig {
   vec3 eye, forward, right, up;
   float tan_half_fov = 0.4f;
   float aspect = 1.0f;
   int width = 1, height = 1;
+  float x_step = 0.8f, x_half = 0.4f, y_step = 0.8f, y_half = 0.4f;
 };
 
 /// forward = normalize(target - eye), right = normalize(cross(forward, up)), up' = cross(right, forward).
@@ -24,13 +28,17 @@ inline CameraRig make_camera_rig(const Camera& cam, int width, int height) {
   rig.width = width;
   rig.height = height;
   rig.aspect = float(width) / float(height);
+  rig.x_half = rig.tan_half_fov * rig.aspect;
+  rig.x_step = 2.0f * rig.x_half / float(width);
+  rig.y_half = rig.tan_half_fov;
+  rig.y_step = 2.0f * rig.y_half / float(height);
   return rig;
 }
 
 /// The ray through pixel (i, j) (column from the left, row from the top) at offset (u, v) in [0,1)^2.
 inline Ray generate_camera_ray(const CameraRig& rig, int i, int j, vec2 u) {
-  float x = (2.0f * (float(i) + u.x) / float(rig.width) - 1.0f) * rig.tan_half_fov * rig.aspect;
-  float y = (1.0f - 2.0f * (float(j) + u.y) / float(rig.height)) * rig.tan_half_fov;
+  const float x = (float(i) + u.x) * rig.x_step - rig.x_half;
+  const float y = rig.y_half - (float(j) + u.y) * rig.y_step;
   return Ray{rig.eye, glm::normalize(rig.forward + x * rig.right + y * rig.up), kInfinity};
 }
 
