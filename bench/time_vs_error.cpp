@@ -8,7 +8,9 @@
 //   build/bench/bench_time_vs_error [--size 128] [--max-spp 256] [--ref-spp 4096] [--cache DIR] [--csv FILE]
 //                                   [--scenes a,b,...] [--max-depth 64] [--threads 0] [--clock wall|cpu]
 //                                   [--strategies defaults,bsdf,...] [--seed 0] [--sampler-cost FRAMES]
-//                                   [--repeat N]
+//                                   [--repeat N] [--max-frames-per-pass 16]
+// Frames are rendered in passes of several, as `ptview --frames N` renders them (--max-frames-per-pass 1: one frame
+// a pass, the viewer's loop on a large window); the films are the same either way.
 // After the table: issue 11's targets 2 and 3 (print_targets); --repeat N renders every pair N times (seeds apart)
 // and compares medians there, the table and CSV keeping the first run.
 // --sampler-cost FRAMES: only Sobol's frame time against independent's, frames rendered alternately (see
@@ -436,6 +438,7 @@ int main(int argc, char** argv) {
   std::string only_strategies;
   uint64_t seed = 0;  // of the measured renders (the references have their own)
   int repeat = 1;     // runs of every pair for the target summary (their median)
+  int max_frames_per_pass = kMaxFramesPerPass;  // 1: a frame per pass, as before the fourteenth round
   int sampler_cost_frames = 0;
   // Convergence sections: "estimator", "adaptive", "both", "only" (both, skipping the strategy curves) or "none".
   std::string convergence = "both";
@@ -457,6 +460,7 @@ int main(int argc, char** argv) {
     else if (!std::strcmp(argv[i], "--strategies")) only_strategies = "," + std::string(argv[i + 1]) + ",";
     else if (!std::strcmp(argv[i], "--seed")) seed = std::strtoull(argv[i + 1], nullptr, 10);
     else if (!std::strcmp(argv[i], "--repeat")) repeat = std::max(1, std::atoi(argv[i + 1]));
+    else if (!std::strcmp(argv[i], "--max-frames-per-pass")) max_frames_per_pass = std::max(1, std::atoi(argv[i + 1]));
     else if (!std::strcmp(argv[i], "--sampler-cost")) sampler_cost_frames = std::atoi(argv[i + 1]);
   }
   std::vector<std::pair<std::string, Scene>> scenes;
@@ -531,10 +535,19 @@ int main(int argc, char** argv) {
           RenderCounters c;
           double seconds = 0;
           int next_report = 1;
-          for (int spp = 1; spp <= max_spp; ++spp) {
+          std::vector<uint32_t> frames;
+          // Passes of several frames, as `ptview --frames N` renders them (app/headless.cpp: about
+          // kHeadlessPassSeconds at the time per frame so far), ending at every reported spp count. The film is the
+          // one a frame at a time gives, bit for bit (Renderer::render_frames).
+          for (int spp = 0; spp < max_spp;) {
+            const int pass = std::min({frames_for_pass_time(spp > 0 ? seconds / spp : 0.0, kHeadlessPassSeconds),
+                                       max_frames_per_pass, next_report - spp, max_spp - spp});
+            frames.resize(size_t(pass));
+            for (int k = 0; k < pass; ++k) frames[size_t(k)] = uint32_t(spp + k);
             double t0 = clock_seconds(cpu_clock, renderer.thread_count());
-            renderer.render_frame(rs, p, film, uint32_t(spp - 1), c);
+            renderer.render_frames(rs, p, film, frames.data(), pass, c);
             seconds += clock_seconds(cpu_clock, renderer.thread_count()) - t0;
+            spp += pass;
             if (spp != next_report) continue;
             next_report *= 2;
             ImageError e = compare_images(film.resolve(), reference);
