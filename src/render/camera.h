@@ -15,9 +15,6 @@ namespace pt {
 /// that were the start of every path's dependent chain (docs/BENCHMARKS.md, fourteenth round).
 struct CameraRig {
   vec3 eye, forward, right, up;
-  float tan_half_fov = 0.4f;
-  float aspect = 1.0f;
-  int width = 1, height = 1;
   float x_step = 0.8f, x_half = 0.4f, y_step = 0.8f, y_half = 0.4f;
 };
 
@@ -28,13 +25,11 @@ inline CameraRig make_camera_rig(const Camera& cam, int width, int height) {
   rig.forward = glm::normalize(cam.target - cam.eye);
   rig.right = glm::normalize(glm::cross(rig.forward, cam.up));
   rig.up = glm::cross(rig.right, rig.forward);
-  rig.tan_half_fov = std::tan(glm::radians(cam.fov_deg) * 0.5f);
-  rig.width = width;
-  rig.height = height;
-  rig.aspect = float(width) / float(height);
-  rig.x_half = rig.tan_half_fov * rig.aspect;
+  const float tan_half_fov = std::tan(glm::radians(cam.fov_deg) * 0.5f);
+  const float aspect = float(width) / float(height);
+  rig.x_half = tan_half_fov * aspect;
   rig.x_step = 2.0f * rig.x_half / float(width);
-  rig.y_half = rig.tan_half_fov;
+  rig.y_half = tan_half_fov;
   rig.y_step = 2.0f * rig.y_half / float(height);
   return rig;
 }
