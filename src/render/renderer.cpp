@@ -4,12 +4,12 @@
 
 namespace pt {
 
-void render_pixel(const RenderScene& scene, const RenderParams& params, const CameraRig& rig, int x, int y,
-                  uint32_t first_sample, Film& film, RenderCounters& counters) {
+void render_pixel(const RenderScene& scene, const RenderParams& params, const CameraRig& rig, const SamplerKeys& keys,
+                  int x, int y, uint32_t first_sample, Film& film, RenderCounters& counters) {
   const size_t pixel = size_t(y) * size_t(params.width) + size_t(x);
   for (int s = 0; s < params.spp_per_frame; ++s) {
     const uint64_t index = uint64_t(first_sample) + uint64_t(s);
-    PixelSampler sampler = PixelSampler::start(params.seed, pixel, index, params.sampler);
+    PixelSampler sampler = PixelSampler::start(keys, params.seed, pixel, index, params.sampler);
     Ray ray = generate_camera_ray(rig, x, y, sampler.next2d());
     vec3 L = trace_path(scene, params, ray, sampler, counters);
     ++counters.samples;
@@ -58,18 +58,20 @@ bool Renderer::render_frame(const RenderScene& scene, const RenderParams& params
 bool Renderer::render_frames(const RenderScene& scene, const RenderParams& params, Film& film, const uint32_t* frames,
                              int count, RenderCounters& counters, const std::atomic<bool>* cancel) {
   const CameraRig rig = make_camera_rig(scene.camera, params.width, params.height);
+  const SamplerKeys keys(params.seed);
   return for_each_tile(*pool_, params.width, params.height, counters, cancel, [&](int x, int y, RenderCounters& c) {
     for (int k = 0; k < count; ++k)
-      render_pixel(scene, params, rig, x, y, frames[k] * uint32_t(params.spp_per_frame), film, c);
+      render_pixel(scene, params, rig, keys, x, y, frames[k] * uint32_t(params.spp_per_frame), film, c);
   });
 }
 
 bool Renderer::render_pass(const RenderScene& scene, const RenderParams& params, Film& film, const uint8_t* active,
                            RenderCounters& counters, const std::atomic<bool>* cancel) {
   const CameraRig rig = make_camera_rig(scene.camera, params.width, params.height);
+  const SamplerKeys keys(params.seed);
   return for_each_tile(*pool_, params.width, params.height, counters, cancel, [&](int x, int y, RenderCounters& c) {
     const size_t p = size_t(y) * size_t(params.width) + size_t(x);
-    if (!active || active[p]) render_pixel(scene, params, rig, x, y, film.taken[p], film, c);
+    if (!active || active[p]) render_pixel(scene, params, rig, keys, x, y, film.taken[p], film, c);
   });
 }
 
@@ -77,9 +79,10 @@ bool Renderer::render_range(const RenderScene& scene, const RenderParams& params
                             const uint32_t* first, uint32_t offset, RenderCounters& counters,
                             const std::atomic<bool>* cancel) {
   const CameraRig rig = make_camera_rig(scene.camera, params.width, params.height);
+  const SamplerKeys keys(params.seed);
   return for_each_tile(*pool_, params.width, params.height, counters, cancel, [&](int x, int y, RenderCounters& c) {
     const size_t p = size_t(y) * size_t(params.width) + size_t(x);
-    if (!active || active[p]) render_pixel(scene, params, rig, x, y, first[p] + offset, film, c);
+    if (!active || active[p]) render_pixel(scene, params, rig, keys, x, y, first[p] + offset, film, c);
   });
 }
 

@@ -47,7 +47,7 @@ class Renderer {
 };
 
 /// Renders one sample batch of a single pixel; exposed for tests.
-void render_pixel(const RenderScene& scene, const RenderParams& params, const CameraRig& rig, int x, int y,
-                  uint32_t first_sample, Film& film, RenderCounters& counters);
+void render_pixel(const RenderScene& scene, const RenderParams& params, const CameraRig& rig, const SamplerKeys& keys,
+                  int x, int y, uint32_t first_sample, Film& film, RenderCounters& counters);
 
 }  // namespace pt

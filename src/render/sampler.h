@@ -17,6 +17,15 @@ enum class SamplerKind : int { independent = 0, sobol = 1 };
 /// i & 1): randomized QMC with two independent replicates, so the film's two halves (sample_in_half_a,
 /// render/film.h) are independent and their difference estimates the error without the bias that stratification
 /// between the halves would cause.
+/// The render seed's part of a Sobol pixel seed: one key for the even and one for the odd samples (the two
+/// independent scrambles of PixelSampler). A function of the seed alone, so a render computes it once; hashed anew
+/// at every pixel sample, as it was, it headed the dependent chain each path starts with (docs/BENCHMARKS.md,
+/// fourteenth round).
+struct SamplerKeys {
+  uint64_t key[2];
+  explicit SamplerKeys(uint64_t seed) : key{mix_bits(seed + 0x51ed27u), mix_bits(seed + 0x51ed28u)} {}
+};
+
 struct PixelSampler {
   SamplerKind kind = SamplerKind::independent;
   Pcg32 rng;
@@ -24,20 +33,30 @@ struct PixelSampler {
   uint32_t rev_index = 0;  ///< the sample index, bit-reversed (what the Sobol tables read)
   uint32_t dimension = 0;  ///< draws so far
 
-  static PixelSampler start(uint64_t seed, uint64_t pixel_index, uint64_t sample_index,
-                            SamplerKind kind = SamplerKind::independent) {
+  static PixelSampler start(const SamplerKeys& keys, uint64_t seed, uint64_t pixel_index, uint64_t sample_index,
+                            SamplerKind kind) {
     PixelSampler s;
     s.kind = kind;
     if (kind == SamplerKind::independent) {
       s.rng = make_sample_rng(seed, pixel_index, sample_index);
     } else {
-      // The even and the odd samples are two independently scrambled sequences (see below).
-      s.pixel_seed = uint32_t(hash_combine(mix_bits(seed + 0x51ed27u + (sample_index & 1u)), pixel_index));
+      // The even and the odd samples are two independently scrambled sequences (see below). pixel ^ key is
+      // distinct for every pixel and parity (the keys differ in their high bits, which no pixel index has).
+      s.pixel_seed = uint32_t(mix_bits(pixel_index ^ keys.key[sample_index & 1u]));
       s.rev_index = reverse_bits(uint32_t(sample_index >> 1));
     }
     return s;
   }
-  uint32_t pattern_seed() { return hash_u32(pixel_seed ^ hash_u32(dimension++ * 0x9e3779b9u + 0x632be5abu)); }
+  static PixelSampler start(uint64_t seed, uint64_t pixel_index, uint64_t sample_index,
+                            SamplerKind kind = SamplerKind::independent) {
+    return start(SamplerKeys(seed), seed, pixel_index, sample_index, kind);
+  }
+  /// The first draw's pattern (the camera's) is seeded by the pixel seed itself, a hash already: one hash less at
+  /// the head of every path. Later draws hash in their draw number.
+  uint32_t pattern_seed() {
+    const uint32_t d = dimension++;
+    return d == 0 ? pixel_seed : hash_u32(pixel_seed ^ hash_u32(d * 0x9e3779b9u + 0x632be5abu));
+  }
   float uniform() { return std::min(rng.next_float(), kOneMinusEpsilon); }
   float next1d() {
     if (kind == SamplerKind::independent) return uniform();
