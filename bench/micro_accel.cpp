@@ -301,4 +301,24 @@ void BM_pixel_sampler(benchmark::State& state) {
 BENCHMARK(BM_pixel_sampler<SamplerKind::independent>)->Name("BM_pixel_sampler_independent");
 BENCHMARK(BM_pixel_sampler<SamplerKind::sobol>)->Name("BM_pixel_sampler_sobol");
 
+// The latency of a pixel sample's first draw (the camera's): each sample's pixel depends on the previous draw, so
+// the loop runs the seeding and the draw as one dependent chain, as the path tracer does after the previous path's
+// last branch (fourteenth round).
+template <SamplerKind kind>
+void BM_camera_draw_latency(benchmark::State& state) {
+  const SamplerKeys keys(7);
+  uint64_t n = 0;
+  float acc = 0.0f;
+  for (auto _ : state) {
+    PixelSampler s = PixelSampler::start(keys, 7, (n >> 6) + (acc > 2.0f ? 1u : 0u), n & 63u, kind);
+    ++n;
+    const vec2 c = s.next2d();
+    acc = c.x + c.y;
+  }
+  benchmark::DoNotOptimize(acc);
+  state.SetItemsProcessed(int64_t(state.iterations()));
+}
+BENCHMARK(BM_camera_draw_latency<SamplerKind::independent>)->Name("BM_camera_draw_latency_independent");
+BENCHMARK(BM_camera_draw_latency<SamplerKind::sobol>)->Name("BM_camera_draw_latency_sobol");
+
 }  // namespace
