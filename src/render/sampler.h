@@ -23,7 +23,10 @@ enum class SamplerKind : int { independent = 0, sobol = 1 };
 /// fourteenth round).
 struct SamplerKeys {
   uint64_t key[2];
-  explicit SamplerKeys(uint64_t seed) : key{mix_bits(seed + 0x51ed27u), mix_bits(seed + 0x51ed28u)} {}
+  /// Two hashes of the seed, the even key with its top bit clear and the odd one with it set, so that pixel ^ key
+  /// differs for every pixel and parity (no pixel index reaches bit 63).
+  explicit SamplerKeys(uint64_t seed)
+      : key{mix_bits(seed + 0x51ed27u) & ~(1ull << 63), mix_bits(seed + 0x51ed28u) | (1ull << 63)} {}
 };
 
 struct PixelSampler {
@@ -40,8 +43,7 @@ struct PixelSampler {
     if (kind == SamplerKind::independent) {
       s.rng = make_sample_rng(seed, pixel_index, sample_index);
     } else {
-      // The even and the odd samples are two independently scrambled sequences (see below). pixel ^ key is
-      // distinct for every pixel and parity (the keys differ in their high bits, which no pixel index has).
+      // The even and the odd samples are two independently scrambled sequences (see below).
       s.pixel_seed = uint32_t(mix_bits(pixel_index ^ keys.key[sample_index & 1u]));
       s.rev_index = reverse_bits(uint32_t(sample_index >> 1));
     }
