@@ -8,15 +8,6 @@ namespace pt {
 
 enum class SamplerKind : int { independent = 0, sobol = 1 };
 
-/// independent: PCG32 per pixel sample. sobol: each successive draw (a "pattern" of 1 to 4 numbers) of a pixel's
-/// samples is its own shuffled Owen-scrambled 4D Sobol pattern over the sample index (Burley 2020), which
-/// stratifies the dimensions of one draw jointly across a pixel's samples while keeping draws decorrelated. The
-/// integrator groups what it needs per path vertex into two 4D draws (light point + light choice + roulette;
-/// direction + lobe), as Cycles does.
-/// The even and the odd samples of a pixel are two independently scrambled sequences (index i >> 1 of scramble
-/// i & 1): randomized QMC with two independent replicates, so the film's two halves (sample_in_half_a,
-/// render/film.h) are independent and their difference estimates the error without the bias that stratification
-/// between the halves would cause.
 /// The render seed's part of a Sobol pixel seed: one key for the even and one for the odd samples (the two
 /// independent scrambles of PixelSampler). A function of the seed alone, so a render computes it once; hashed anew
 /// at every pixel sample, as it was, it headed the dependent chain each path starts with (docs/BENCHMARKS.md,
@@ -29,6 +20,15 @@ struct SamplerKeys {
       : key{mix_bits(seed + 0x51ed27u) & ~(1ull << 63), mix_bits(seed + 0x51ed28u) | (1ull << 63)} {}
 };
 
+/// independent: PCG32 per pixel sample. sobol: each successive draw (a "pattern" of 1 to 4 numbers) of a pixel's
+/// samples is its own shuffled Owen-scrambled 4D Sobol pattern over the sample index (Burley 2020), which
+/// stratifies the dimensions of one draw jointly across a pixel's samples while keeping draws decorrelated. The
+/// integrator groups what it needs per path vertex into two 4D draws (light point + light choice + roulette;
+/// direction + lobe), as Cycles does.
+/// The even and the odd samples of a pixel are two independently scrambled sequences (index i >> 1 of scramble
+/// i & 1): randomized QMC with two independent replicates, so the film's two halves (sample_in_half_a,
+/// render/film.h) are independent and their difference estimates the error without the bias that stratification
+/// between the halves would cause.
 struct PixelSampler {
   SamplerKind kind = SamplerKind::independent;
   Pcg32 rng;
