@@ -43,15 +43,15 @@ Row measure(const std::string& name, const Scene& scene, int threads, int size, 
   auto start = std::chrono::steady_clock::now();
   double elapsed = 0;
   int frames = 0, max_pass = 1;
-  std::vector<uint32_t> numbers;
   while (elapsed < seconds || frames < 2) {
     // Passes of several frames, as `ptview --frames N` renders them (app/headless.cpp): about kHeadlessPassSeconds
-    // at the measured time per frame; the first pass is one frame, to measure it.
+    // at the measured time per frame; the first pass is one frame, to measure it. As there, a pass is one frame of
+    // `pass` samples a pixel, continuing from each pixel's next sample index.
     const int pass = std::min(frames_for_pass_time(frames > 0 ? elapsed / frames : 0.0, kHeadlessPassSeconds),
                               max_frames_per_pass);
-    numbers.resize(size_t(pass));
-    for (int k = 0; k < pass; ++k) numbers[size_t(k)] = uint32_t(frames + k);
-    renderer.render_frames(rs, params, film, numbers.data(), pass, counters);
+    RenderParams p = params;
+    p.spp_per_frame = pass * params.spp_per_frame;
+    renderer.render_pass(rs, p, film, nullptr, counters);
     frames += pass;
     max_pass = std::max(max_pass, pass);
     elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -530,22 +530,20 @@ int main(int argc, char** argv) {
           p.integrator = st.integrator;
           p.light_sampling = st.light_sampling;
           p.sampler = sampler;
-          p.spp_per_frame = 1;
           Film film(size, size);
           RenderCounters c;
           double seconds = 0;
           int next_report = 1;
-          std::vector<uint32_t> frames;
           // Passes of several frames, as `ptview --frames N` renders them (app/headless.cpp: about
-          // kHeadlessPassSeconds at the time per frame so far), ending at every reported spp count. The film is the
-          // one a frame at a time gives, bit for bit (Renderer::render_frames).
+          // kHeadlessPassSeconds at the time per frame so far, one frame of `pass` samples a pixel continuing from
+          // each pixel's next sample index), ending at every reported spp count. The film is the one a frame at a
+          // time gives, bit for bit.
           for (int spp = 0; spp < max_spp;) {
             const int pass = std::min({frames_for_pass_time(spp > 0 ? seconds / spp : 0.0, kHeadlessPassSeconds),
                                        max_frames_per_pass, next_report - spp, max_spp - spp});
-            frames.resize(size_t(pass));
-            for (int k = 0; k < pass; ++k) frames[size_t(k)] = uint32_t(spp + k);
+            p.spp_per_frame = pass;
             double t0 = clock_seconds(cpu_clock, renderer.thread_count());
-            renderer.render_frames(rs, p, film, frames.data(), pass, c);
+            renderer.render_pass(rs, p, film, nullptr, c);
             seconds += clock_seconds(cpu_clock, renderer.thread_count()) - t0;
             spp += pass;
             if (spp != next_report) continue;
