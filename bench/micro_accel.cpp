@@ -310,7 +310,7 @@ void BM_camera_draw_latency(benchmark::State& state) {
   uint64_t n = 0;
   float acc = 0.0f;
   for (auto _ : state) {
-    PixelSampler s = PixelSampler::start(keys, 7, (n >> 6) + (acc > 2.0f ? 1u : 0u), n & 63u, kind);
+    PixelSampler s = PixelSampler::start(keys, (n >> 6) + (acc > 2.0f ? 1u : 0u), n & 63u, kind);
     ++n;
     const vec2 c = s.next2d();
     acc = c.x + c.y;

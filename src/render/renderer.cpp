@@ -9,7 +9,7 @@ void render_pixel(const RenderScene& scene, const RenderParams& params, const Ca
   const size_t pixel = size_t(y) * size_t(params.width) + size_t(x);
   for (int s = 0; s < params.spp_per_frame; ++s) {
     const uint64_t index = uint64_t(first_sample) + uint64_t(s);
-    PixelSampler sampler = PixelSampler::start(keys, params.seed, pixel, index, params.sampler);
+    PixelSampler sampler = PixelSampler::start(keys, pixel, index, params.sampler);
     Ray ray = generate_camera_ray(rig, x, y, sampler.next2d());
     vec3 L = trace_path(scene, params, ray, sampler, counters);
     ++counters.samples;

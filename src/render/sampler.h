@@ -13,11 +13,13 @@ enum class SamplerKind : int { independent = 0, sobol = 1 };
 /// at every pixel sample, as it was, it headed the dependent chain each path starts with (docs/BENCHMARKS.md,
 /// fourteenth round).
 struct SamplerKeys {
+  uint64_t seed;  ///< the render seed itself (what the independent sampler hashes per sample)
   uint64_t key[2];
   /// Two hashes of the seed, the even key with its top bit clear and the odd one with it set, so that pixel ^ key
   /// differs for every pixel and parity (no pixel index reaches bit 63).
-  explicit SamplerKeys(uint64_t seed)
-      : key{mix_bits(seed + 0x51ed27u) & ~(1ull << 63), mix_bits(seed + 0x51ed28u) | (1ull << 63)} {}
+  explicit SamplerKeys(uint64_t render_seed)
+      : seed(render_seed),
+        key{mix_bits(render_seed + 0x51ed27u) & ~(1ull << 63), mix_bits(render_seed + 0x51ed28u) | (1ull << 63)} {}
 };
 
 /// independent: PCG32 per pixel sample. sobol: each successive draw (a "pattern" of 1 to 4 numbers) of a pixel's
@@ -36,12 +38,11 @@ struct PixelSampler {
   uint32_t rev_index = 0;  ///< the sample index, bit-reversed (what the Sobol tables read)
   uint32_t dimension = 0;  ///< draws so far
 
-  static PixelSampler start(const SamplerKeys& keys, uint64_t seed, uint64_t pixel_index, uint64_t sample_index,
-                            SamplerKind kind) {
+  static PixelSampler start(const SamplerKeys& keys, uint64_t pixel_index, uint64_t sample_index, SamplerKind kind) {
     PixelSampler s;
     s.kind = kind;
     if (kind == SamplerKind::independent) {
-      s.rng = make_sample_rng(seed, pixel_index, sample_index);
+      s.rng = make_sample_rng(keys.seed, pixel_index, sample_index);
     } else {
       // The even and the odd samples are two independently scrambled sequences (see below).
       s.pixel_seed = uint32_t(mix_bits(pixel_index ^ keys.key[sample_index & 1u]));
@@ -51,7 +52,7 @@ struct PixelSampler {
   }
   static PixelSampler start(uint64_t seed, uint64_t pixel_index, uint64_t sample_index,
                             SamplerKind kind = SamplerKind::independent) {
-    return start(SamplerKeys(seed), seed, pixel_index, sample_index, kind);
+    return start(SamplerKeys(seed), pixel_index, sample_index, kind);
   }
   /// The first draw's pattern (the camera's) is seeded by the pixel seed itself, a hash already: one hash less at
   /// the head of every path. Later draws hash in their draw number.
