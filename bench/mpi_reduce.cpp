@@ -4,9 +4,9 @@
 // (a copy). Table on stdout, CSV rows: ranks,width,height,bytes,ms_per_reduction,gb_per_s,vote_us.
 #include <chrono>
 #include <cstdio>
-#include <cstring>
 #include <string>
 
+#include "bench_cli.h"
 #include "dist/cluster.h"
 
 using namespace pt;
@@ -15,10 +15,11 @@ using Clock = std::chrono::steady_clock;
 int main(int argc, char** argv) {
   std::string csv_path;
   int repeats = 5;
-  for (int i = 1; i < argc; ++i) {
-    if (!std::strcmp(argv[i], "--csv") && i + 1 < argc) csv_path = argv[++i];
-    else if (!std::strcmp(argv[i], "--repeats") && i + 1 < argc) repeats = std::max(1, std::atoi(argv[++i]));
-  }
+  CLI::App app{"The cost of one reduction of a distributed render and of the stop vote; run under mpirun.",
+               "bench_mpi_reduce"};
+  app.add_option("--csv", csv_path, "CSV output (default: none)");
+  app.add_option("--repeats", repeats, "Reductions timed per size (default 5)")->check(CLI::Range(1, 1 << 20));
+  if (std::optional<int> exit_code = bench::parse_command_line(app, argc, argv)) return *exit_code;
   std::unique_ptr<Cluster> cluster = join_cluster();
   const int sizes[][2] = {{512, 512}, {1920, 1080}, {3840, 2160}};
   std::string csv = "ranks,width,height,bytes,ms_per_reduction,gb_per_s,vote_us\n";

@@ -6,13 +6,13 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
-#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <string>
 #include <thread>
 #include <vector>
 
+#include "bench_cli.h"
 #include "render/adaptive.h"
 #include "render/renderer.h"
 #include "scene/load.h"
@@ -74,13 +74,16 @@ int main(int argc, char** argv) {
   int size = 512, max_depth = 8, max_frames_per_pass = kMaxFramesPerPass;
   double seconds = 5;
   std::string csv = "render_throughput.csv";
-  for (int i = 1; i + 1 < argc; i += 2) {
-    if (!std::strcmp(argv[i], "--size")) size = std::atoi(argv[i + 1]);
-    else if (!std::strcmp(argv[i], "--seconds")) seconds = std::atof(argv[i + 1]);
-    else if (!std::strcmp(argv[i], "--csv")) csv = argv[i + 1];
-    else if (!std::strcmp(argv[i], "--max-depth")) max_depth = std::atoi(argv[i + 1]);
-    else if (!std::strcmp(argv[i], "--max-frames-per-pass")) max_frames_per_pass = std::max(1, std::atoi(argv[i + 1]));
-  }
+  CLI::App app{"spp/s and Mrays/s of the renderer on the built-in scenes (and the bunny when present), 1 thread "
+               "and all threads, frames in passes as `ptview --frames N` renders them.",
+               "bench_render_throughput"};
+  app.add_option("--size", size, "Image width and height (default 512)")->check(CLI::Range(1, 8192));
+  app.add_option("--seconds", seconds, "Seconds per scene and thread count (default 5)")->check(CLI::Range(0.01, 3600.0));
+  app.add_option("--csv", csv, "CSV output (default render_throughput.csv)");
+  app.add_option("--max-depth", max_depth, "Maximum path depth (default 8)")->check(CLI::Range(1, 1 << 16));
+  app.add_option("--max-frames-per-pass", max_frames_per_pass, "Frames rendered as one pass (default 16)")
+      ->check(CLI::Range(1, 1 << 16));
+  if (std::optional<int> exit_code = bench::parse_command_line(app, argc, argv)) return *exit_code;
   std::vector<std::pair<std::string, Scene>> scenes;
   for (const char* name : {"cornell", "cornell-glass", "cornell-mirror", "cornell-spheres", "cornell-large-mesh"}) {
     Result<Scene> s = load_builtin_scene(name);

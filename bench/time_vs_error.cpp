@@ -29,7 +29,6 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -40,6 +39,7 @@
 #include <vector>
 
 #include "app/app.h"
+#include "bench_cli.h"
 #include "render/camera.h"
 #include "render/analytic.h"
 #include "render/adaptive.h"
@@ -435,6 +435,7 @@ int main(int argc, char** argv) {
   std::string csv_path = "time_vs_error.csv";
   std::string only;
   bool cpu_clock = false;
+  std::string clock_arg = "wall";
   std::string only_strategies;
   uint64_t seed = 0;  // of the measured renders (the references have their own)
   int repeat = 1;     // runs of every pair for the target summary (their median)
@@ -443,25 +444,45 @@ int main(int argc, char** argv) {
   // Convergence sections: "estimator", "adaptive", "both", "only" (both, skipping the strategy curves) or "none".
   std::string convergence = "both";
   int conv_size = 32, conv_ref_spp = 4096, conv_seeds = 8;
-  for (int i = 1; i + 1 < argc; i += 2) {
-    if (!std::strcmp(argv[i], "--size")) size = std::atoi(argv[i + 1]);
-    else if (!std::strcmp(argv[i], "--max-spp")) max_spp = std::atoi(argv[i + 1]);
-    else if (!std::strcmp(argv[i], "--ref-spp")) ref_spp = std::atoi(argv[i + 1]);
-    else if (!std::strcmp(argv[i], "--cache")) cache = argv[i + 1];
-    else if (!std::strcmp(argv[i], "--csv")) csv_path = argv[i + 1];
-    else if (!std::strcmp(argv[i], "--scenes")) only = "," + std::string(argv[i + 1]) + ",";
-    else if (!std::strcmp(argv[i], "--convergence")) convergence = argv[i + 1];
-    else if (!std::strcmp(argv[i], "--conv-size")) conv_size = std::atoi(argv[i + 1]);
-    else if (!std::strcmp(argv[i], "--conv-ref-spp")) conv_ref_spp = std::atoi(argv[i + 1]);
-    else if (!std::strcmp(argv[i], "--conv-seeds")) conv_seeds = std::max(2, std::atoi(argv[i + 1]) / 2 * 2);
-    else if (!std::strcmp(argv[i], "--max-depth")) max_depth = std::atoi(argv[i + 1]);
-    else if (!std::strcmp(argv[i], "--threads")) threads = std::atoi(argv[i + 1]);
-    else if (!std::strcmp(argv[i], "--clock")) cpu_clock = !std::strcmp(argv[i + 1], "cpu");
-    else if (!std::strcmp(argv[i], "--strategies")) only_strategies = "," + std::string(argv[i + 1]) + ",";
-    else if (!std::strcmp(argv[i], "--seed")) seed = std::strtoull(argv[i + 1], nullptr, 10);
-    else if (!std::strcmp(argv[i], "--repeat")) repeat = std::max(1, std::atoi(argv[i + 1]));
-    else if (!std::strcmp(argv[i], "--max-frames-per-pass")) max_frames_per_pass = std::max(1, std::atoi(argv[i + 1]));
-    else if (!std::strcmp(argv[i], "--sampler-cost")) sampler_cost_frames = std::atoi(argv[i + 1]);
+  std::string scenes_arg, strategies_arg;
+  CLI::App app{"Error against time for every sampling strategy and sampler, then issue 11's targets 2 and 3 and the "
+               "convergence sections (see the comment at the top of bench/time_vs_error.cpp).",
+               "bench_time_vs_error"};
+  app.add_option("--size", size, "Image width and height (default 128)")->check(CLI::Range(1, 8192));
+  app.add_option("--max-spp", max_spp, "Last spp count of the curves (default 256)")->check(CLI::Range(1, 1 << 20));
+  app.add_option("--ref-spp", ref_spp, "Samples of a rendered reference (default 4096)")->check(CLI::Range(2, 1 << 24));
+  app.add_option("--cache", cache, "Directory of the cached references (default ~/.cache/ptview)");
+  app.add_option("--csv", csv_path, "CSV of the curves (default time_vs_error.csv)");
+  app.add_option("--scenes", scenes_arg, "Comma-separated scenes (default: all but cornell36)");
+  app.add_option("--convergence", convergence, "Convergence sections (default both)")
+      ->check(CLI::IsMember({"estimator", "adaptive", "both", "only", "none"}));
+  app.add_option("--conv-size", conv_size, "Image size of the convergence sections (default 32)")
+      ->check(CLI::Range(1, 8192));
+  app.add_option("--conv-ref-spp", conv_ref_spp, "Their references' spp (default 4096)")->check(CLI::Range(2, 1 << 24));
+  app.add_option("--conv-seeds", conv_seeds, "Seeds the estimator section averages over (default 8; rounded to even)")
+      ->check(CLI::Range(2, 1 << 16));
+  app.add_option("--max-depth", max_depth, "Maximum path depth (default 64)")->check(CLI::Range(1, 1 << 16));
+  app.add_option("--threads", threads, "Worker threads (default 0: all cores)")->check(CLI::Range(0, 1 << 10));
+  app.add_option("--clock", clock_arg, "wall (default) or cpu: process CPU seconds over the thread count")
+      ->check(CLI::IsMember({"wall", "cpu"}));
+  app.add_option("--strategies", strategies_arg, "Comma-separated strategies (default: all)");
+  app.add_option("--seed", seed, "Seed of the measured renders (default 0)");
+  app.add_option("--repeat", repeat, "Runs of every pair for the target summary (default 1)")->check(CLI::Range(1, 1000));
+  app.add_option("--max-frames-per-pass", max_frames_per_pass, "Frames rendered as one pass (default 16)")
+      ->check(CLI::Range(1, 1 << 16));
+  app.add_option("--sampler-cost", sampler_cost_frames, "Only Sobol's frame time against independent's, N frames")
+      ->check(CLI::Range(0, 1 << 20));
+  if (std::optional<int> exit_code = bench::parse_command_line(app, argc, argv)) return *exit_code;
+  cpu_clock = clock_arg == "cpu";
+  conv_seeds = conv_seeds / 2 * 2;
+  if (!scenes_arg.empty()) only = "," + scenes_arg + ",";
+  if (!strategies_arg.empty()) only_strategies = "," + strategies_arg + ",";
+  std::vector<std::string> strategy_names;
+  for (const Strategy& st : kStrategies) strategy_names.push_back(st.name);
+  if (std::string bad = bench::unknown_names(strategies_arg, strategy_names); !bad.empty()) {
+    std::fprintf(stderr, "bench_time_vs_error: --strategies: unknown %s (known: defaults, assignment(nee+area), "
+                 "nee+solid-angle, mis+solid-angle, bsdf)\n", bad.c_str());
+    return 2;
   }
   std::vector<std::pair<std::string, Scene>> scenes;
   for (const char* name : {"cornell", "cornell-glass", "cornell-mirror", "cornell-large-mesh"}) {
@@ -479,6 +500,15 @@ int main(int argc, char** argv) {
       return 2;
     }
     scenes.emplace_back("cornell36", std::move(*c36));
+  }
+  std::vector<std::string> scene_names{"cornell36"};
+  for (const auto& named : scenes)
+    if (named.first != "cornell36") scene_names.push_back(named.first);
+  if (std::string bad = bench::unknown_names(scenes_arg, scene_names); !bad.empty()) {
+    std::string known;
+    for (const std::string& n : scene_names) known += (known.empty() ? "" : ", ") + n;
+    std::fprintf(stderr, "bench_time_vs_error: --scenes: unknown %s (known: %s)\n", bad.c_str(), known.c_str());
+    return 2;
   }
   Renderer renderer(threads);
   if (sampler_cost_frames > 0) {
