@@ -4,7 +4,7 @@ BUILD_TYPE ?= Release
 JOBS ?= $(shell nproc 2>/dev/null || echo 2)
 CMAKE_FLAGS ?=
 
-.PHONY: run test build deps configure clean bench-error bench-cornell36 bench-throughput sanitize fuzz bench-raycast bench-e2e bench-micro bench-mpi bench-offload
+.PHONY: run test build deps configure clean bench-error bench-cornell36 bench-throughput sanitize fuzz bench-raycast bench-e2e bench-micro bench-mpi bench-offload bench-profile
 
 deps:
 	@bash scripts/install-deps.sh
@@ -54,6 +54,11 @@ bench-offload: build
 # Google Benchmark micro benchmarks of the triangle and box tests and the sampling warps.
 bench-micro: build
 	./$(BUILD_DIR)/bench/bench_micro_accel
+
+# Issue 11's target 5: where a cornell36 frame's time goes (perf record -e cpu-clock, 1 thread), and ray casting's share.
+bench-profile: build
+	@PTVIEW_WITH_BENCH_DEPS=1 bash scripts/install-deps.sh
+	bash bench/profile_frame.sh $(BUILD_DIR)
 
 # Our BVH against Embree 3 (libembree-dev, a bench dependency): ray throughput, agreement, build (bench/raycast.cpp).
 # Re-configures after installing the dependencies so that a build configured without Embree picks it up.
