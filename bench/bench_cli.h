@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-namespace pt::bench {
+namespace bench {
 
 /// Parses argv; returns the exit code when the program should stop now (0 after --help, 2 on bad input).
 inline std::optional<int> parse_command_line(CLI::App& app, int argc, char** argv) {
@@ -39,4 +39,4 @@ inline std::string unknown_names(const std::string& list, const std::vector<std:
   return unknown;
 }
 
-}  // namespace pt::bench
+}  // namespace bench

@@ -3,19 +3,20 @@
 // Usage: bench_load_time [--reps N] FILE...   (large inputs: bench/gen_large_gltf.py)
 #include <chrono>
 #include <cstdio>
-#include <cstring>
 #include <string>
 #include <vector>
 
+#include "bench_cli.h"
 #include "scene/load.h"
 
 int main(int argc, char** argv) {
   int reps = 3;
   std::vector<std::string> files;
-  for (int i = 1; i < argc; ++i) {
-    if (std::strcmp(argv[i], "--reps") == 0 && i + 1 < argc) reps = std::max(1, std::atoi(argv[++i]));
-    else files.push_back(argv[i]);
-  }
+  CLI::App app{"Scene loading alone (no BVH, no rendering): wall time of load_scene per file, best of --reps.",
+               "bench_load_time"};
+  app.add_option("--reps", reps, "Loads per file, the best reported (default 3)")->check(CLI::Range(1, 1000));
+  app.add_option("files", files, "Scene files (.obj, .gltf, .glb, .json)")->required();
+  if (std::optional<int> exit_code = bench::parse_command_line(app, argc, argv)) return *exit_code;
   std::printf("%-40s %12s %10s\n", "file", "triangles", "best_ms");
   for (const std::string& f : files) {
     double best = 1e300;
