@@ -4,6 +4,7 @@
 /// where a hand-rolled loop ignored it and ran for twenty minutes with the defaults.
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
 #include <cstdio>
 #include <optional>
 #include <sstream>
@@ -27,16 +28,20 @@ inline std::optional<int> parse_command_line(CLI::App& app, int argc, char** arg
   return std::nullopt;
 }
 
-/// The names of a comma-separated list that are not among `known` ("" when all are).
-inline std::string unknown_names(const std::string& list, const std::vector<std::string>& known) {
-  std::string unknown;
+/// Checks the comma-separated names given to `option` against `known`. Returns "" when all are known, else one line
+/// naming the unknown ones and listing the known ones.
+inline std::string check_names(const std::string& option, const std::string& list,
+                               const std::vector<std::string>& known) {
+  auto join = [](const std::vector<std::string>& names) {
+    std::string out;
+    for (const std::string& n : names) out += (out.empty() ? "" : ", ") + n;
+    return out;
+  };
+  std::vector<std::string> unknown;
   std::stringstream in(list);
-  for (std::string name; std::getline(in, name, ',');) {
-    bool found = false;
-    for (const std::string& k : known) found = found || k == name;
-    if (!found && !name.empty()) unknown += (unknown.empty() ? "" : ", ") + name;
-  }
-  return unknown;
+  for (std::string name; std::getline(in, name, ',');)
+    if (!name.empty() && std::find(known.begin(), known.end(), name) == known.end()) unknown.push_back(name);
+  return unknown.empty() ? "" : option + ": unknown " + join(unknown) + " (known: " + join(known) + ")";
 }
 
 }  // namespace bench

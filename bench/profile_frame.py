@@ -34,22 +34,23 @@ def main():
         for line in f:
             m = LINE.match(line)
             if m:
-                rows.append((m.group(2), float(m.group(1))))
+                symbol = m.group(2)
+                rows.append((symbol, float(m.group(1)), "ray casting" if RAY_CASTING.search(symbol) else ""))
     if not rows:
         sys.exit("profile_frame: perf recorded no samples")
-    total = sum(p for _, p in rows)
-    casting = sum(p for s, p in rows if RAY_CASTING.search(s))
+    total = sum(p for _, p, _ in rows)
+    casting = sum(p for _, p, group in rows if group)
     print(f"{'percent':>8}  {'group':<12}  symbol")
-    for s, p in rows:
+    for s, p, group in rows:
         if p >= 0.5:
-            print(f"{p:7.1f}%  {'ray casting' if RAY_CASTING.search(s) else '':<12}  {short(s)}")
+            print(f"{p:7.1f}%  {group:<12}  {short(s)}")
     print(f"\nray casting (BVH traversal and its entry points): {100 * casting / total:.1f}% of the frame "
           f"(target 5: at least 50%: {'met' if casting >= 0.5 * total else 'missed'})")
     with open(sys.argv[2], "w", newline="") as f:
         w = csv.writer(f)
         w.writerow(["symbol", "percent", "group"])
-        for s, p in rows:
-            w.writerow([s, p, "ray casting" if RAY_CASTING.search(s) else "other"])
+        for s, p, group in rows:
+            w.writerow([s, p, group or "other"])
     print(f"wrote {sys.argv[2]}")
 
 

@@ -32,16 +32,11 @@ py=/usr/bin/python3
 tmp="$(mktemp -d)"
 trap 'rm -rf "$tmp"' EXIT
 
-# The lit box: the same OBJ, its MTL with the light's emission added, and the camera of cornell36.json.
+# The lit box: the same OBJ, its MTL with the light's emission added, and cornell36.json without its background.
 cp "$root/bench/data/cornell36.obj" "$tmp/"
 sed '/^newmtl light/a Ke 17 12 4' "$root/bench/data/cornell36.mtl" > "$tmp/cornell36.mtl"
-cat > "$tmp/scene.json" << 'EOF'
-{
-  "version": 1,
-  "camera": {"eye": [278, 273, -800], "target": [278, 273, 0], "up": [0, 1, 0], "fov": 37},
-  "shapes": [{"type": "mesh", "file": "cornell36.obj"}]
-}
-EOF
+"$py" -c 'import json, sys; s = json.load(open(sys.argv[1])); s.pop("background", None); json.dump(s, sys.stdout)' \
+  "$root/bench/data/cornell36.json" > "$tmp/scene.json"
 
 start=$(date +%s.%N)
 # shellcheck disable=SC2086
