@@ -188,6 +188,22 @@ TEST(Sidedness, AOneSidedQuadLitFromBehindIsLit) {
 // ---------------------------------------------------------------------------------------------------------------
 // Lights are picked in proportion to their power; the estimate stays unbiased with several lights.
 
+/// Direct light only (max depth 1) seen straight down at the floor point x (normal +y), for every integrator and
+/// light-sampling mode, within 5 standard errors of `expected`.
+void expect_direct_light_near(const RenderScene& rs, vec3 x, double expected, int samples, uint64_t seed) {
+  for (IntegratorKind k : kIntegrators)
+    for (LightSampling mode : {LightSampling::area, LightSampling::solid_angle, LightSampling::automatic}) {
+      RenderParams p;
+      p.integrator = k;
+      p.light_sampling = mode;
+      p.max_depth = 1;
+      const Ray ray{x + vec3(0, 0.3f, 0), vec3(0, -1, 0), kInfinity};
+      const Estimate e = estimate(rs, p, ray, samples, seed);
+      EXPECT_NEAR(e.mean, expected, 5.0 * e.stderr_ + 1e-4)
+          << name_of(k) << " mode " << name_of(mode) << " at " << x.x << "," << x.z;
+    }
+}
+
 TEST(LightChoice, TwoLightsPickedByPowerAndTheirIrradiancesAdd) {
   Scene s;
   const float albedo = 0.5f;
@@ -214,17 +230,65 @@ TEST(LightChoice, TwoLightsPickedByPowerAndTheirIrradiancesAdd) {
     double expected = albedo / M_PI *
                       (polygon_irradiance(poly1, dvec3(x), dvec3(0, 1, 0), 1.0) +
                        polygon_irradiance(poly2, dvec3(x), dvec3(0, 1, 0), 8.0));
-    for (IntegratorKind k : kIntegrators)
-      for (LightSampling mode : {LightSampling::area, LightSampling::solid_angle, LightSampling::automatic}) {
-        RenderParams p;
-        p.integrator = k;
-        p.light_sampling = mode;
-        p.max_depth = 1;
-        Ray ray{x + vec3(0, 0.3f, 0), vec3(0, -1, 0), kInfinity};
-        Estimate e = estimate(rs, p, ray, 40000, 17);
-        EXPECT_NEAR(e.mean, expected, 5.0 * e.stderr_ + 1e-4)
-            << name_of(k) << " mode " << name_of(mode) << " at " << x.x << "," << x.z;
-      }
+    expect_direct_light_near(rs, x, expected, 40000, 17);
+  }
+}
+
+// Every light kind in one scene (rectangle, sheared parallelogram, triangle, sphere), with different radiances and
+// areas: the power-based choice among kinds, each kind's density, and MIS between a kind's light sample and a BSDF
+// ray that hits another kind must add up to the sum of the closed forms. The planar lights lie in one plane
+// (y = 1) and the sphere outside the hull of the lights and the receivers, so nothing shadows anything.
+TEST(LightChoice, EveryLightKindInOneSceneAddsUp) {
+  Scene s;
+  const float albedo = 0.5f;
+  add_material(s, diffuse(vec3(albedo)));
+  const float l_rect = 1.0f, l_para = 4.0f, l_tri = 6.0f, l_sphere = 3.0f;
+  const uint32_t rect = add_material(s, diffuse(vec3(0.0f), vec3(l_rect)));
+  const uint32_t para = add_material(s, diffuse(vec3(0.0f), vec3(l_para)));
+  const uint32_t tri = add_material(s, diffuse(vec3(0.0f), vec3(l_tri)));
+  const uint32_t sphere = add_material(s, diffuse(vec3(0.0f), vec3(l_sphere)));
+  s.quads.push_back({vec3(-50, 0, 50), vec3(100, 0, 0), vec3(0, 0, -100), 0});  // floor facing up
+  // Facing down: cross(edge1, edge2) = -y for both quads and for the triangle's winding.
+  const vec3 rc(-1.2f, 1.0f, -0.3f), ra(1.0f, 0, 0), rb(0, 0, 0.6f);
+  const vec3 pc(0.3f, 1.0f, -0.6f), pa(0.6f, 0, 0), pb(0.3f, 0, 0.5f);
+  s.quads.push_back({rc, ra, rb, rect});
+  s.quads.push_back({pc, pa, pb, para});
+  const vec3 t0(-0.6f, 1.0f, 0.5f), t1(0.2f, 1.0f, 0.9f), t2(-0.4f, 1.0f, 1.0f);
+  Mesh mesh;
+  mesh.positions = {t0, t1, t2};
+  mesh.indices = {uvec3(0, 1, 2)};
+  mesh.materials = {tri};
+  s.meshes.push_back(mesh);
+  const vec3 center(1.6f, 0.7f, 1.4f);
+  const float radius = 0.2f;
+  s.spheres.push_back({center, radius, sphere});
+  RenderScene rs = make_render_scene(s);
+  ASSERT_EQ(rs.lights.lights.size(), 4u);
+  int rectangles = 0, parallelograms = 0, triangles = 0, spheres = 0;
+  for (const Light& l : rs.lights.lights) {
+    if (l.kind == LightKind::rect) ++(l.rectangular ? rectangles : parallelograms);
+    if (l.kind == LightKind::triangle) ++triangles;
+    if (l.kind == LightKind::sphere) ++spheres;
+  }
+  EXPECT_EQ(rectangles, 1);
+  EXPECT_EQ(parallelograms, 1);
+  EXPECT_EQ(triangles, 1);
+  EXPECT_EQ(spheres, 1);
+
+  const std::vector<std::pair<std::vector<dvec3>, double>> polygons = {
+      {{dvec3(rc), dvec3(rc + ra), dvec3(rc + ra + rb), dvec3(rc + rb)}, l_rect},
+      {{dvec3(pc), dvec3(pc + pa), dvec3(pc + pa + pb), dvec3(pc + pb)}, l_para},
+      {{dvec3(t0), dvec3(t1), dvec3(t2)}, l_tri}};
+  for (vec3 x : {vec3(0.0f, 0, 0.0f), vec3(0.6f, 0, -0.2f), vec3(-0.7f, 0, 0.4f)}) {
+    double irradiance = 0.0;
+    for (const auto& [polygon, radiance] : polygons)
+      irradiance += polygon_irradiance(polygon, dvec3(x), dvec3(0, 1, 0), radiance);
+    // A sphere wholly above the horizon gives the irradiance of a point source: pi L (r / d)^2 cos(theta).
+    const dvec3 to_center = dvec3(center) - dvec3(x);
+    const double d = glm::length(to_center);
+    irradiance += M_PI * l_sphere * (radius / d) * (radius / d) * (to_center.y / d);
+    const double expected = albedo / M_PI * irradiance;
+    expect_direct_light_near(rs, x, expected, 200000, 23);
   }
 }
 
