@@ -286,6 +286,8 @@ TEST(Adaptive, PassesOfSeveralFramesGiveTheFilmOfTheFramesOneByOne) {
   for (int i = 0; i < 24; ++i) one.render_frame(r, rs, p, c);
   int pass_count = 0;
   while (passes.frames() < 24) {
+    // A film whose every pixel stopped adds no frames: bound the loop so that such a bug fails instead of hanging.
+    ASSERT_LT(pass_count, 24) << "passes stopped adding frames at " << passes.frames();
     const int frames = std::min({5, passes.frames_to_check(p.spp_per_frame), 24 - passes.frames()});
     RenderParams q = p;
     q.spp_per_frame = frames * p.spp_per_frame;
