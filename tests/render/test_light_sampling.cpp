@@ -69,14 +69,15 @@ TEST(LightSampling, RectangleBySolidAngleFollowsItsPdf) {
 }
 
 /// An emissive quad (corners in order, in the plane y = 1) as an OBJ delivers it, two triangles sharing the diagonal
-/// 0-2, wound clockwise seen from above so the light faces down, over a floor triangle.
-RenderScene obj_quad_light_scene(const vec3 (&quad)[4]) {
+/// 0-2, wound clockwise seen from above so the light faces down, over a floor triangle. Other splits and windings
+/// of the quad by `first` and `second`.
+RenderScene obj_quad_light_scene(const vec3 (&quad)[4], uvec3 first = uvec3(0, 1, 2), uvec3 second = uvec3(0, 2, 3)) {
   Scene s;
   uint32_t white = test::add_material(s, test::diffuse(vec3(0.5f)));
   uint32_t light = test::add_material(s, test::diffuse(vec3(0.0f), vec3(4.0f)));
   Mesh m;
   m.positions = {quad[0], quad[1], quad[2], quad[3], vec3(-5, 0, -5), vec3(5, 0, -5), vec3(5, 0, 5)};
-  m.indices = {uvec3(0, 1, 2), uvec3(0, 2, 3), uvec3(4, 6, 5)};
+  m.indices = {first, second, uvec3(4, 6, 5)};
   m.materials = {light, light, white};
   s.meshes.push_back(m);
   return make_render_scene(s);
@@ -203,6 +204,41 @@ TEST(LightSampling, TwoTrianglesOfAShearedQuadBecomeOneSolidAngleSampledParallel
   auto r = parallelogram_chi_square(l, ref, LightSampling::solid_angle, 34);
   EXPECT_GT(r.p_value, kAlpha) << r.describe();
   EXPECT_NEAR(r.expected_total / 400000, 1.0, 2e-3);
+}
+
+TEST(LightSampling, EmissiveTrianglePairsMergeOnlyIntoTheirOwnParallelogram) {
+  // Exporters split a quad along either diagonal and start each triangle at any corner: every such pair is one
+  // light, facing the way its triangles do. A pair that is not exactly a parallelogram, or whose triangles face
+  // opposite ways, stays two triangle lights: a merged light would emit from a surface (or a side) that is not
+  // the triangles', and light_pdf would not match hits on them.
+  const vec3 quad[4] = {vec3(-0.6f, 1, -0.4f), vec3(0.4f, 1, -0.4f), vec3(0.8f, 1, 0.3f), vec3(-0.2f, 1, 0.3f)};
+  const uvec3 splits[][2] = {{uvec3(0, 1, 2), uvec3(0, 2, 3)}, {uvec3(0, 1, 2), uvec3(2, 3, 0)},
+                             {uvec3(2, 3, 0), uvec3(1, 2, 0)}, {uvec3(0, 1, 3), uvec3(1, 2, 3)},
+                             {uvec3(1, 2, 3), uvec3(3, 0, 1)}, {uvec3(3, 0, 1), uvec3(2, 3, 1)}};
+  for (const auto& split : splits) {
+    RenderScene rs = obj_quad_light_scene(quad, split[0], split[1]);
+    SCOPED_TRACE(testing::Message() << "split " << split[0].x << split[0].y << split[0].z << " / " << split[1].x
+                                    << split[1].y << split[1].z);
+    ASSERT_EQ(rs.lights.lights.size(), 1u);
+    EXPECT_EQ(rs.tri_light[0], 0);
+    EXPECT_EQ(rs.tri_light[1], 0);
+    const Light& l = rs.lights.lights[0];
+    EXPECT_EQ(l.kind, LightKind::rect);
+    EXPECT_NEAR(l.area, 0.7f, 1e-5f);
+    EXPECT_NEAR(l.n.y, -1.0f, 1e-6f);  // the triangles' front, down
+  }
+  // The fourth corner 1% of the quad's size off the parallelogram: two triangles.
+  vec3 kite[4] = {quad[0], quad[1], quad[2], quad[3] + vec3(0.0f, 0.0f, 0.01f)};
+  RenderScene off = obj_quad_light_scene(kite);
+  ASSERT_EQ(off.lights.lights.size(), 2u);
+  for (const Light& l : off.lights.lights) EXPECT_EQ(l.kind, LightKind::triangle);
+  // The second triangle wound the other way: two triangle lights facing opposite ways.
+  RenderScene flipped = obj_quad_light_scene(quad, uvec3(0, 1, 2), uvec3(0, 3, 2));
+  ASSERT_EQ(flipped.lights.lights.size(), 2u);
+  EXPECT_EQ(flipped.lights.lights[0].kind, LightKind::triangle);
+  EXPECT_EQ(flipped.lights.lights[1].kind, LightKind::triangle);
+  EXPECT_NEAR(flipped.lights.lights[0].n.y, -1.0f, 1e-6f);
+  EXPECT_NEAR(flipped.lights.lights[1].n.y, 1.0f, 1e-6f);
 }
 
 /// The same for a triangle light, over the (x, y) in [0,1]^2 of the inverse square-root warp (b1 + b2 = sqrt(x),
