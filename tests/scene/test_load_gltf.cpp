@@ -162,10 +162,11 @@ TEST(Gltf, NodeHierarchyWithTrsMatricesAndInstancing) {
   TempDir dir;
   GltfBuilder b;
   int mesh = b.mesh(b.positions(kTriangle));
-  // Parent: translate (10,0,0) * rotate 90 degrees about z * scale 2. Child: a matrix translating by (0,5,0).
+  // Parent: translate (10,0,0) * rotate 90 degrees about z * scale (2,3,4): the scale is not uniform, so applying
+  // it after the rotation instead of before would move the vertices. Child: a matrix translating by (0,5,0).
   double h = std::sqrt(0.5);
   int child = b.node({{"mesh", mesh}, {"matrix", {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 5, 0, 1}}}, false);
-  b.node({{"mesh", mesh}, {"translation", {10, 0, 0}}, {"rotation", {0, 0, h, h}}, {"scale", {2, 2, 2}},
+  b.node({{"mesh", mesh}, {"translation", {10, 0, 0}}, {"rotation", {0, 0, h, h}}, {"scale", {2, 3, 4}},
           {"children", {child}}});
   b.node({{"mesh", mesh}});  // the same mesh a third time, untransformed
   test::write_file(dir / "h.gltf", b.embedded());
@@ -174,7 +175,7 @@ TEST(Gltf, NodeHierarchyWithTrsMatricesAndInstancing) {
   ASSERT_EQ(m.indices.size(), 3u);
   glm::mat4 parent = glm::translate(glm::mat4(1), vec3(10, 0, 0)) *
                      glm::rotate(glm::mat4(1), glm::radians(90.0f), vec3(0, 0, 1)) *
-                     glm::scale(glm::mat4(1), vec3(2));
+                     glm::scale(glm::mat4(1), vec3(2, 3, 4));
   glm::mat4 child_world = parent * glm::translate(glm::mat4(1), vec3(0, 5, 0));
   glm::mat4 expected[3] = {parent, child_world, glm::mat4(1)};  // depth first: parent, child, second root
   for (int t = 0; t < 3; ++t)
