@@ -446,6 +446,33 @@ TEST(SceneLights, EveryLightOfEveryBuiltinSceneCanBeResizedAndScaled) {
   }
 }
 
+TEST(SceneLights, ASphereLightMovesAndScalesAboutItsCenter) {
+  // No built-in scene has a sphere light: the test above never scales one.
+  Scene s;
+  Material floor, lamp;
+  floor.name = "floor";
+  lamp.name = "lamp";
+  lamp.emission = vec3(2.0f);
+  s.materials = {floor, lamp};
+  s.quads.push_back({vec3(-2, 0, 2), vec3(4, 0, 0), vec3(0, 0, -4), 0});
+  s.spheres.push_back({{vec3(0.5f, 1.5f, -0.25f), 0.2f}, 1});
+  ViewerState st;
+  st.init(std::move(s), small_params(), {}, -1);
+  ASSERT_EQ(st.lights.size(), 1u);
+  ASSERT_EQ(st.lights[0].kind, SceneLightKind::sphere);
+  ASSERT_EQ(st.apply(LightShapeEdit{0, {}, {}, 2.0f}), Tier::light_refit);
+  EXPECT_FLOAT_EQ(st.scene.spheres[0].radius, 0.4f);
+  EXPECT_EQ(st.scene.spheres[0].center, vec3(0.5f, 1.5f, -0.25f));
+  ASSERT_EQ(st.render_scene->lights.lights.size(), 1u);
+  EXPECT_FLOAT_EQ(st.render_scene->lights.lights[0].radius, 0.4f);  // the render side follows
+  ASSERT_EQ(st.apply(LightShapeEdit{0, vec3(-0.5f, 1.0f, 0.0f), {}, {}}), Tier::light_refit);
+  EXPECT_EQ(st.scene.spheres[0].center, vec3(-0.5f, 1.0f, 0.0f));
+  EXPECT_FLOAT_EQ(st.scene.spheres[0].radius, 0.4f);
+  const LightPlacement pl = light_placement(st.scene, st.lights[0]);
+  EXPECT_NEAR(glm::length(pl.center - vec3(-0.5f, 1.0f, 0.0f)), 0.0f, 1e-6f);
+  EXPECT_NEAR(pl.size.x, 0.8f, 1e-6f);
+}
+
 TEST(SceneLights, LabelsNameTheShape) {
   // A quad light with a right angle is a rectangle, a sheared one a parallelogram (sampled differently:
   // render/light.h); sizes are the extents along the light's two edges.
