@@ -11,6 +11,8 @@
 #include <string>
 #include <vector>
 
+#include "temp_dir.h"
+
 namespace pt::test {
 
 struct RunResult {
@@ -31,20 +33,6 @@ inline std::string read_file(const std::filesystem::path& p) {
   ss << f.rdbuf();
   return ss.str();
 }
-
-/// A fresh temporary directory, removed by the destructor.
-struct TempDir {
-  std::filesystem::path path;
-  TempDir() {
-    std::string tmpl = (std::filesystem::temp_directory_path() / "ptview-test-XXXXXX").string();
-    path = ::mkdtemp(tmpl.data());
-  }
-  ~TempDir() {
-    std::error_code ec;
-    std::filesystem::remove_all(path, ec);
-  }
-  std::string operator/(const std::string& name) const { return (path / name).string(); }
-};
 
 /// Runs PTVIEW_EXE with `args` (each quoted), with a timeout so a hang fails the test instead of blocking it.
 /// `wrapper` goes between the timeout and the executable (e.g. "xvfb-run -a").

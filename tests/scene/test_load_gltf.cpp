@@ -2,14 +2,13 @@
 // mapping, .glb, glTF inside scene JSON, and every kind of bad input as one "FILE: reason" line.
 #include <gtest/gtest.h>
 
-#include <unistd.h>
-
 #include <filesystem>
 #include <functional>
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "gltf_fixture.h"
 #include "scene/load.h"
+#include "temp_dir.h"
 
 namespace pt {
 namespace {
@@ -18,16 +17,7 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 using test::GltfBuilder;
 
-struct TempDir {
-  fs::path path;
-  TempDir() {
-    path = fs::temp_directory_path() / ("ptview-gltf-" + std::to_string(::getpid()) + "-" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::create_directories(path);
-  }
-  ~TempDir() { fs::remove_all(path); }
-  std::string operator/(const std::string& f) const { return (path / f).string(); }
-};
+using test::TempDir;
 
 const std::vector<vec3> kTriangle = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
 

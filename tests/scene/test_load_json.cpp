@@ -1,7 +1,6 @@
 // Scene JSON: transforms (positions, normals, winding under mirroring), the generated mesh, defaults, material
 // references and naming, warnings with their lines, and errors that never escape as exceptions.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <chrono>
 #include <filesystem>
@@ -10,6 +9,7 @@
 
 #include "scene/load.h"
 #include "scene/procedural.h"
+#include "temp_dir.h"
 
 namespace pt {
 namespace {
@@ -29,16 +29,7 @@ vec3 geometric_normal(const Mesh& m, size_t t) {
   return glm::normalize(glm::cross(m.positions[i.y] - m.positions[i.x], m.positions[i.z] - m.positions[i.x]));
 }
 
-/// A scratch folder for scenes that need files beside them.
-struct TempDir {
-  fs::path path = fs::temp_directory_path() / ("ptview-test-load-json-" + std::to_string(::getpid()));
-  TempDir() { fs::create_directories(path); }
-  ~TempDir() { fs::remove_all(path); }
-  std::string write(const std::string& name, const std::string& text) const {
-    std::ofstream(path / name, std::ios::binary) << text;
-    return (path / name).string();
-  }
-};
+using test::TempDir;  // a scratch folder for scenes that need files beside them
 
 Result<Scene> parse(const std::string& text, const std::string& path = "inline.json") {
   return parse_json_scene(text, path);

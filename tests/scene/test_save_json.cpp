@@ -3,28 +3,19 @@
 // with a transform, a mesh with its own materials per triangle far from the origin that has no file) loads back as
 // the same scene.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <filesystem>
-#include <fstream>
 
 #include "scene/load.h"
 #include "scene/save_json.h"
+#include "temp_dir.h"
 
 namespace pt {
 namespace {
 
 namespace fs = std::filesystem;
 
-struct TempDir {
-  fs::path path = fs::temp_directory_path() / ("ptview-test-save-json-" + std::to_string(::getpid()));
-  TempDir() { fs::create_directories(path / "saved"); }
-  ~TempDir() { fs::remove_all(path); }
-  std::string write(const std::string& name, const std::string& text) const {
-    std::ofstream(path / name, std::ios::binary) << text;
-    return (path / name).string();
-  }
-};
+using test::TempDir;
 
 void expect_near(vec3 a, vec3 b, float tolerance, const std::string& what) {
   EXPECT_LE(glm::length(a - b), tolerance) << what << ": (" << a.x << ", " << a.y << ", " << a.z << ") against ("
@@ -79,6 +70,7 @@ TEST(SaveJson, EveryPartOfASceneLoadsBackTheSame) {
   const Scene s = make_scene(dir);
   ASSERT_EQ(s.meshes.size(), 2u);
   ASSERT_FALSE(s.meshes[0].source.file.empty());  // the first mesh is named by its file, with its transform
+  fs::create_directory(dir.path / "saved");  // a folder of its own: the mesh file is named relative to it
   const std::string out = (dir.path / "saved" / "scene.json").string();
   const std::optional<Error> err = save_scene_json(s, s.materials, out);
   ASSERT_FALSE(err.has_value()) << err->message;

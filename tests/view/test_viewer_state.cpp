@@ -2,7 +2,6 @@
 // and refits counted), the preview frame after a restart, the old scene staying live during a load, the light
 // model (which lights, their placement, resizing), and parse_script on every malformed form.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
@@ -18,6 +17,7 @@
 #include "view/display_mode.h"
 #include "view/script.h"
 #include "view/viewer_state.h"
+#include "temp_dir.h"
 
 namespace pt {
 namespace {
@@ -53,18 +53,7 @@ std::string write_two_triangle_light_obj(const fs::path& dir) {
   return (dir / "room.obj").string();
 }
 
-struct TempDir {
-  fs::path path;
-  TempDir() {
-    path = fs::temp_directory_path() / ("ptview-state-" + std::to_string(::getpid()) + "-" + std::to_string(counter()++));
-    fs::create_directories(path);
-  }
-  ~TempDir() { fs::remove_all(path); }
-  static int& counter() {
-    static int c = 0;
-    return c;
-  }
-};
+using test::TempDir;
 
 TEST(Tiers, EveryEditKindTakesItsTierAndCostsWhatItShould) {
   ViewerState st;
