@@ -20,4 +20,12 @@ inline double polygon_irradiance(const std::vector<dvec3>& polygon, dvec3 x, dve
   return std::abs(0.5 * L * sum);
 }
 
+/// Irradiance at x (unit normal n) from a sphere of uniform radiance L that lies wholly above x's horizon: that of
+/// a point source at its center, E = pi L (r / d)^2 cos(theta), theta the angle between n and the center.
+inline double sphere_irradiance(dvec3 center, double radius, dvec3 x, dvec3 n, double L) {
+  const dvec3 to_center = center - x;
+  const double d = glm::length(to_center);
+  return M_PI * L * (radius / d) * (radius / d) * glm::dot(n, to_center / d);
+}
+
 }  // namespace pt

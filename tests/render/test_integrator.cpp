@@ -305,7 +305,7 @@ TEST(SphereLight, IrradianceBelowASphereMatchesClosedForm) {
   const float r = 0.3f, d = 1.5f;
   s.spheres.push_back({vec3(0, d, 0), r, emitter});
   RenderScene rs = make_render_scene(s);
-  double expected = 1.0 / M_PI * M_PI * 2.0 * (r / d) * (r / d);
+  double expected = 1.0 / M_PI * sphere_irradiance(dvec3(0, d, 0), r, dvec3(0.0), dvec3(0, 1, 0), 2.0);
   for (IntegratorKind k : kIntegrators) {
     RenderParams params;
     params.integrator = k;

@@ -283,10 +283,7 @@ TEST(LightChoice, EveryLightKindInOneSceneAddsUp) {
     double irradiance = 0.0;
     for (const auto& [polygon, radiance] : polygons)
       irradiance += polygon_irradiance(polygon, dvec3(x), dvec3(0, 1, 0), radiance);
-    // A sphere wholly above the horizon gives the irradiance of a point source: pi L (r / d)^2 cos(theta).
-    const dvec3 to_center = dvec3(center) - dvec3(x);
-    const double d = glm::length(to_center);
-    irradiance += M_PI * l_sphere * (radius / d) * (radius / d) * (to_center.y / d);
+    irradiance += sphere_irradiance(dvec3(center), radius, dvec3(x), dvec3(0, 1, 0), l_sphere);  // above the horizon
     const double expected = albedo / M_PI * irradiance;
     expect_direct_light_near(rs, x, expected, 200000, 23);
   }
