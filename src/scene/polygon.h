@@ -10,10 +10,11 @@ namespace pt {
 
 /// Triangulates a simple planar (or nearly planar) polygon given by its corners in order, appending triangles as
 /// index triples into `corners` that keep the polygon's winding (so its front side). A quad is split along its
-/// shorter diagonal; larger polygons by ear clipping in the plane of their Newell normal (Eberly, "Triangulation by
-/// Ear Clipping", 2002; Newell's normal: Sutherland et al. 1974), which handles concave polygons. A polygon with
-/// no area, or one the clipper cannot finish (self-intersecting), falls back to a fan: its degenerate triangles
-/// are then dropped by the caller. Always appends corners.size() - 2 triangles.
+/// shorter diagonal unless only the other one lies inside it (a concave quad); larger polygons by ear clipping in
+/// the plane of their Newell normal (Eberly, "Triangulation by Ear Clipping", 2002; Newell's normal: Sutherland et
+/// al. 1974), which handles concave polygons. A polygon with no area, or one the clipper cannot finish
+/// (self-intersecting), falls back to a fan: its degenerate triangles are then dropped by the caller. Always
+/// appends corners.size() - 2 triangles.
 void triangulate_polygon(std::span<const vec3> corners, std::vector<uvec3>& out);
 
 }  // namespace pt

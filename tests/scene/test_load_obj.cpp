@@ -256,7 +256,17 @@ TEST(Polygon, TriangulationCoversConcavePolygonsWithTheirWinding) {
     float a = kTwoPi * i / 10, r = i % 2 ? 0.4f : 1.0f;
     star.push_back({r * std::cos(a), r * std::sin(a), 0.0f});
   }
-  for (std::vector<vec3> poly : {comb, star}) {
+  // A dart (a concave quad) whose inside diagonal, through the reflex corner (0, 1), is the longer one; from each of
+  // its four corners, so that either diagonal is the inside one. And a rectangle with a corner in the middle of an
+  // edge, which splits without a flat triangle.
+  std::vector<std::vector<vec3>> polygons = {comb, star, {{0, 1, 0}, {1, 0, 0}, {0, 10, 0}, {-1, 0, 0}}};
+  for (int start = 1; start < 4; ++start) {
+    std::vector<vec3> dart = polygons.back();
+    std::rotate(dart.begin(), dart.begin() + 1, dart.end());
+    polygons.push_back(dart);
+  }
+  polygons.push_back({{1, 0, 0}, {2, 0, 0}, {2, 1, 0}, {0, 1, 0}, {0, 0, 0}});  // the clipper's first corner is flat
+  for (std::vector<vec3> poly : polygons) {
     for (bool reversed : {false, true}) {
       if (reversed) std::reverse(poly.begin(), poly.end());
       std::vector<uvec3> tris;
@@ -265,7 +275,7 @@ TEST(Polygon, TriangulationCoversConcavePolygonsWithTheirWinding) {
       double total = 0.0, unsigned_total = 0.0;
       for (uvec3 t : tris) {
         double a = shoelace({poly[t.x], poly[t.y], poly[t.z]});
-        EXPECT_GT(a * shoelace(poly), 0.0) << "a triangle against the polygon's winding";
+        EXPECT_GT(a * shoelace(poly), 0.0) << "a flat triangle or one against the polygon's winding";
         total += a;
         unsigned_total += std::abs(a);
       }
