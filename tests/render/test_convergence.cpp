@@ -239,6 +239,32 @@ TEST(Adaptive, LoweringTheThresholdResumesStoppedPixels) {
   for (size_t px = 0; px < before.size(); ++px) ASSERT_EQ(f.film().taken[px], before[px] + 16);
 }
 
+// The minimum spp is a floor on every pixel, not only on the first check: raised above what the stopped pixels hold,
+// they sample again (the viewer's noise-threshold command and panel can raise it during a run).
+TEST(Adaptive, RaisingTheMinimumResumesPixelsStoppedBelowIt) {
+  RenderScene rs = make_render_scene(make_floor_scene());
+  RenderParams p;
+  p.width = 40;
+  p.height = 24;
+  p.spp_per_frame = 4;
+  Renderer r(2);
+  ProgressiveFilm f;
+  f.reset(p.width, p.height);
+  f.set_adaptive({0.05, 16});
+  RenderCounters c;
+  for (int frame = 0; frame < 24; ++frame) f.render_frame(r, rs, p, c);
+  ASSERT_EQ(f.spp(), 96);
+  ASSERT_EQ(spp_summary(f.film()).min, 16u);  // the sky stopped at the first check
+  f.set_adaptive({0.05, 64});
+  EXPECT_EQ(f.active(), brute_force_active(f.film(), 0.05, 64));
+  for (size_t px = 0; px < f.active().size(); ++px)
+    ASSERT_TRUE(f.film().taken[px] >= 64 || f.active()[px]) << "pixel " << px << " stays stopped below the minimum";
+  std::vector<uint32_t> before = f.film().taken;
+  f.render_frame(r, rs, p, c);
+  for (size_t px = 0; px < before.size(); ++px)
+    if (before[px] < 64) ASSERT_EQ(f.film().taken[px], before[px] + 4) << "pixel " << px;
+}
+
 RenderParams adaptive_params() {
   RenderParams p;
   p.width = 37;

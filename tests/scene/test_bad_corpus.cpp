@@ -81,6 +81,7 @@ const BadCase kCases[] = {
   {"vertex_missing_coordinate.obj", 2, "'v' needs 3 numbers"},
   {"normal_garbage_crlf.obj",     4, "'x' is not a finite number"},
   {"face_with_two_vertices.obj",  4, "at least 3 vertices"},
+  {"face_with_too_many_corners.obj", 258, "a face with 256 vertices (at most 255 are supported)"},
   {"face_index_out_of_range.obj", 4, "face vertex index 4 out of range (3 defined so far)"},
   {"face_index_zero.obj",         5, "index 0"},
   {"negative_index_too_far.obj",  4, "face vertex index -4 out of range"},
