@@ -171,25 +171,36 @@ std::vector<uint8_t> brute_force_active(const Film& film, double t, int min_spp)
   return a;
 }
 
-TEST(Adaptive, StopsConvergedPixelsAndOnlyThose) {
+/// A progressive film of the floor scene, w x h pixels, spp samples per frame, adaptive with threshold t and the
+/// given minimum spp; frame() renders one frame into it.
+struct FloorRun {
   RenderScene rs = make_render_scene(make_floor_scene());
   RenderParams p;
-  p.width = 40;
-  p.height = 24;
-  p.spp_per_frame = 4;
-  p.sampler = SamplerKind::independent;  // the stopping pattern below was chosen for these numbers
-  Renderer r(2);
+  Renderer r{2};
   ProgressiveFilm f;
-  f.reset(p.width, p.height);
-  const double t = 0.05;
-  f.set_adaptive({t, 16});
   RenderCounters c;
+  FloorRun(int w, int h, int spp, double t, int min_spp, SamplerKind sampler = RenderParams{}.sampler) {
+    p.width = w;
+    p.height = h;
+    p.spp_per_frame = spp;
+    p.sampler = sampler;
+    f.reset(w, h);
+    f.set_adaptive({t, min_spp});
+  }
+  void frame() { f.render_frame(r, rs, p, c); }
+};
+
+TEST(Adaptive, StopsConvergedPixelsAndOnlyThose) {
+  const double t = 0.05;
+  // Independent numbers: the stopping pattern below was chosen for these.
+  FloorRun run(40, 24, 4, t, 16, SamplerKind::independent);
+  ProgressiveFilm& f = run.f;
   size_t min_active = f.film().pixel_count();
   for (int frame = 0; frame < 40; ++frame) {
     std::vector<uint32_t> before = f.film().taken;
     std::vector<uint8_t> active = f.active();
     int level = f.spp();
-    f.render_frame(r, rs, p, c);
+    run.frame();
     for (size_t px = 0; px < before.size(); ++px)
       ASSERT_EQ(f.film().taken[px], before[px] + (active[px] ? 4u : 0u)) << "pixel " << px << " frame " << frame;
     bool checked = f.spp() >= 16 && (f.spp() - 16) % kAdaptiveCheckInterval == 0;
@@ -210,24 +221,16 @@ TEST(Adaptive, StopsConvergedPixelsAndOnlyThose) {
 }
 
 TEST(Adaptive, LoweringTheThresholdResumesStoppedPixels) {
-  RenderScene rs = make_render_scene(make_floor_scene());
-  RenderParams p;
-  p.width = 32;
-  p.height = 20;
-  p.spp_per_frame = 16;
-  Renderer r(2);
-  ProgressiveFilm f;
-  f.reset(p.width, p.height);
-  f.set_adaptive({0.2, 16});
-  RenderCounters c;
-  for (int i = 0; i < 64 && !f.converged(); ++i) f.render_frame(r, rs, p, c);
+  FloorRun run(32, 20, 16, 0.2, 16);
+  ProgressiveFilm& f = run.f;
+  for (int i = 0; i < 64 && !f.converged(); ++i) run.frame();
   ASSERT_TRUE(f.converged());
   EXPECT_EQ(f.converged_fraction(), 1.0);
   std::vector<uint32_t> before = f.film().taken;
   f.set_adaptive({0.02, 16});
   EXPECT_FALSE(f.converged());
   EXPECT_EQ(f.active(), brute_force_active(f.film(), 0.02, 16));
-  f.render_frame(r, rs, p, c);
+  run.frame();
   size_t resumed = 0;
   for (size_t px = 0; px < before.size(); ++px) resumed += f.film().taken[px] > before[px];
   EXPECT_GT(resumed, 0u);
@@ -235,24 +238,16 @@ TEST(Adaptive, LoweringTheThresholdResumesStoppedPixels) {
   f.set_adaptive({});
   EXPECT_EQ(f.converged_fraction(), 0.0);
   before = f.film().taken;
-  f.render_frame(r, rs, p, c);
+  run.frame();
   for (size_t px = 0; px < before.size(); ++px) ASSERT_EQ(f.film().taken[px], before[px] + 16);
 }
 
 // The minimum spp is a floor on every pixel, not only on the first check: raised above what the stopped pixels hold,
 // they sample again (the viewer's noise-threshold command and panel can raise it during a run).
 TEST(Adaptive, RaisingTheMinimumResumesPixelsStoppedBelowIt) {
-  RenderScene rs = make_render_scene(make_floor_scene());
-  RenderParams p;
-  p.width = 40;
-  p.height = 24;
-  p.spp_per_frame = 4;
-  Renderer r(2);
-  ProgressiveFilm f;
-  f.reset(p.width, p.height);
-  f.set_adaptive({0.05, 16});
-  RenderCounters c;
-  for (int frame = 0; frame < 24; ++frame) f.render_frame(r, rs, p, c);
+  FloorRun run(40, 24, 4, 0.05, 16);
+  ProgressiveFilm& f = run.f;
+  for (int frame = 0; frame < 24; ++frame) run.frame();
   ASSERT_EQ(f.spp(), 96);
   ASSERT_EQ(spp_summary(f.film()).min, 16u);  // the sky stopped at the first check
   f.set_adaptive({0.05, 64});
@@ -260,7 +255,7 @@ TEST(Adaptive, RaisingTheMinimumResumesPixelsStoppedBelowIt) {
   for (size_t px = 0; px < f.active().size(); ++px)
     ASSERT_TRUE(f.film().taken[px] >= 64 || f.active()[px]) << "pixel " << px << " stays stopped below the minimum";
   std::vector<uint32_t> before = f.film().taken;
-  f.render_frame(r, rs, p, c);
+  run.frame();
   for (size_t px = 0; px < before.size(); ++px)
     if (before[px] < 64) ASSERT_EQ(f.film().taken[px], before[px] + 4) << "pixel " << px;
 }

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <functional>
 #include <glm/gtc/matrix_transform.hpp>
+#include <stb_image_write.h>
 
 #include "gltf_fixture.h"
 #include "scene/load.h"
@@ -265,6 +266,65 @@ TEST(Gltf, MaterialMapping) {
   EXPECT_FALSE(has_warning(s, "'chrome'"));
   EXPECT_FALSE(has_warning(s, "'water'"));
   EXPECT_FALSE(has_warning(s, "'lamp'")) << testing::PrintToString(s.warnings);
+}
+
+/// A PNG of w x h RGBA pixels, encoded by stb_image_write.
+std::string png(int w, int h, const std::vector<uint8_t>& rgba) {
+  std::string out;
+  auto append = [](void* context, void* data, int size) {
+    static_cast<std::string*>(context)->append(static_cast<const char*>(data), size_t(size));
+  };
+  EXPECT_NE(stbi_write_png_to_func(append, &out, w, h, 4, rgba.data(), 4 * w), 0);
+  return out;
+}
+
+/// What IEC 61966-2-1 makes of an 8-bit sRGB value, written out here.
+double linear(int v) {
+  const double s = v / 255.0;
+  return s <= 0.04045 ? s / 12.92 : std::pow((s + 0.055) / 1.055, 2.4);
+}
+
+// A base-colour or emissive texture stands for its mean linear colour (README, glTF mapping): the mean of the
+// decoded sRGB pixels, alpha ignored, times the factor. An image that cannot be decoded leaves the factor alone.
+TEST(Gltf, TexturesBecomeTheirMeanLinearColourTimesTheFactor) {
+  TempDir dir;
+  GltfBuilder b;
+  // Four pixels, one of them transparent (its colour still counts).
+  const std::vector<uint8_t> rgba = {255, 0, 0, 255, 0, 0, 255, 0, 128, 64, 128, 128, 255, 255, 0, 255};
+  const dvec3 mean((linear(255) + linear(128) + linear(255)) / 4, (linear(64) + linear(255)) / 4,
+                   (linear(255) + linear(128)) / 4);
+  b.j["images"] = {{{"uri", "data:image/png;base64," + test::base64(png(2, 2, rgba))}},
+                   {{"uri", "data:image/png;base64," + test::base64("not a png at all")}}};
+  b.j["textures"] = {{{"source", 0}}, {{"source", 1}}};
+  std::vector<json> mats = {
+      {{"name", "painted"},
+       {"pbrMetallicRoughness", {{"baseColorFactor", {0.5, 1, 0.25, 1}}, {"baseColorTexture", {{"index", 0}}}}}},
+      {{"name", "screen"}, {"emissiveFactor", {2, 4, 8}}, {"emissiveTexture", {{"index", 0}}}},
+      {{"name", "broken"},
+       {"pbrMetallicRoughness", {{"baseColorFactor", {0.5, 0.5, 0.5, 1}}, {"baseColorTexture", {{"index", 1}}}}}},
+  };
+  for (size_t i = 0; i < mats.size(); ++i) {
+    int mat = b.material(mats[i]);
+    b.node({{"mesh", b.mesh(b.positions(kTriangle), -1, mat)}, {"translation", {0, 0, double(i)}}});
+  }
+  test::write_file(dir / "t.gltf", b.embedded());
+  Scene s = load_ok(dir / "t.gltf");
+  auto find = [&](const std::string& name) -> const Material& {
+    for (const Material& m : s.materials)
+      if (m.name == name) return m;
+    ADD_FAILURE() << "no material " << name;
+    return s.materials[0];
+  };
+  const vec3 painted = find("painted").albedo, screen = find("screen").emission;
+  const dvec3 factor(0.5, 1, 0.25), emissive(2, 4, 8);
+  for (int c = 0; c < 3; ++c) {
+    EXPECT_NEAR(painted[c], factor[c] * mean[c], 1e-5) << "channel " << c;
+    EXPECT_NEAR(screen[c], emissive[c] * mean[c], 1e-5) << "channel " << c;
+  }
+  EXPECT_EQ(find("broken").albedo, vec3(0.5f));
+  EXPECT_TRUE(has_warning(s, "'painted' approximated: base colour texture as its mean colour"));
+  EXPECT_TRUE(has_warning(s, "'screen' approximated: emissive texture as its mean colour"));
+  EXPECT_TRUE(has_warning(s, "'broken' approximated: base colour texture ignored (image 1: cannot decode"));
 }
 
 TEST(Gltf, GlbRoundTripEqualsGltf) {

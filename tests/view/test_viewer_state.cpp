@@ -250,6 +250,17 @@ TEST(DisplayModes, HeatmapsShowTheMapsAndFallBackToTheImage) {
   ASSERT_TRUE(make_display_image(DisplayMode::reference_error, f, &ref, out, legend));
   EXPECT_GT(out.at(1, 1).x, 0.9f);  // the top colour (0.99, 1, 0.64) in sRGB
   EXPECT_LT(out.at(0, 0).x, 1e-3f);
+  // An error of 10^-1.5 sits in the middle of the log scale (1e-3 to 1): the colour map's middle stop, (0.73, 0.21,
+  // 0.33) in sRGB, linear in the image (the display's framebuffer encodes sRGB), in both heatmaps.
+  auto decode = [](float s) { return s <= 0.04045f ? s / 12.92f : std::pow((s + 0.055f) / 1.055f, 2.4f); };
+  const vec3 middle(decode(0.73f), decode(0.21f), decode(0.33f));
+  const float mid = float(std::pow(10.0, -1.5));
+  ref.set(2, 1, vec3(0.5f / (1.0f + mid)));  // |0.5 - ref| / ref = mid
+  ASSERT_TRUE(make_display_image(DisplayMode::reference_error, f, &ref, out, legend));
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(out.at(2, 1)[c], middle[c], 2e-3f) << "reference error, channel " << c;
+  f.rel_error.set(2, 1, vec3(mid));
+  ASSERT_TRUE(make_display_image(DisplayMode::error, f, nullptr, out, legend));
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(out.at(2, 1)[c], middle[c], 2e-3f) << "relative error, channel " << c;
   Image other(2, 2);
   EXPECT_FALSE(make_display_image(DisplayMode::reference_error, f, &other, out, legend)) << "size differs";
 }
