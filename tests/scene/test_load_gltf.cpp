@@ -214,6 +214,23 @@ TEST(Gltf, FirstPerspectiveCameraWithItsNodeTransform) {
   EXPECT_NE(select_camera(s, 2).find("out of range"), std::string::npos);
 }
 
+/// One triangle per material of `mats`, each on its own node, written to `path` and loaded back.
+Scene load_material_triangles(GltfBuilder& b, const std::vector<json>& mats, const std::string& path) {
+  for (size_t i = 0; i < mats.size(); ++i) {
+    int mat = b.material(mats[i]);
+    b.node({{"mesh", b.mesh(b.positions(kTriangle), -1, mat)}, {"translation", {0, 0, double(i)}}});
+  }
+  test::write_file(path, b.embedded());
+  return load_ok(path);
+}
+
+const Material& material_named(const Scene& s, const std::string& name) {
+  for (const Material& m : s.materials)
+    if (m.name == name) return m;
+  ADD_FAILURE() << "no material " << name;
+  return s.materials.at(0);
+}
+
 TEST(Gltf, MaterialMapping) {
   TempDir dir;
   GltfBuilder b;
@@ -231,18 +248,8 @@ TEST(Gltf, MaterialMapping) {
       {{"name", "lamp"}, {"emissiveFactor", {1, 0.5, 0.25}}, {"extensions", {{"KHR_materials_emissive_strength", {{"emissiveStrength", 4}}}}}},
       {{"name", "leaf"}, {"alphaMode", "BLEND"}, {"pbrMetallicRoughness", pbr({0.1, 0.6, 0.1, 0.5}, 0, 1)}},
   };
-  for (size_t i = 0; i < mats.size(); ++i) {
-    int mat = b.material(mats[i]);
-    b.node({{"mesh", b.mesh(b.positions(kTriangle), -1, mat)}, {"translation", {0, 0, double(i)}}});
-  }
-  test::write_file(dir / "m.gltf", b.embedded());
-  Scene s = load_ok(dir / "m.gltf");
-  auto find = [&](const std::string& name) -> const Material& {
-    for (const Material& m : s.materials)
-      if (m.name == name) return m;
-    ADD_FAILURE() << "no material " << name;
-    return s.materials[0];
-  };
+  Scene s = load_material_triangles(b, mats, dir / "m.gltf");
+  auto find = [&](const std::string& name) -> const Material& { return material_named(s, name); };
   EXPECT_EQ(find("paint").type, MaterialType::diffuse);
   EXPECT_EQ(find("paint").albedo, vec3(0.5f, 0.25f, 0.125f));
   EXPECT_EQ(find("chrome").type, MaterialType::specular);
@@ -303,18 +310,8 @@ TEST(Gltf, TexturesBecomeTheirMeanLinearColourTimesTheFactor) {
       {{"name", "broken"},
        {"pbrMetallicRoughness", {{"baseColorFactor", {0.5, 0.5, 0.5, 1}}, {"baseColorTexture", {{"index", 1}}}}}},
   };
-  for (size_t i = 0; i < mats.size(); ++i) {
-    int mat = b.material(mats[i]);
-    b.node({{"mesh", b.mesh(b.positions(kTriangle), -1, mat)}, {"translation", {0, 0, double(i)}}});
-  }
-  test::write_file(dir / "t.gltf", b.embedded());
-  Scene s = load_ok(dir / "t.gltf");
-  auto find = [&](const std::string& name) -> const Material& {
-    for (const Material& m : s.materials)
-      if (m.name == name) return m;
-    ADD_FAILURE() << "no material " << name;
-    return s.materials[0];
-  };
+  Scene s = load_material_triangles(b, mats, dir / "t.gltf");
+  auto find = [&](const std::string& name) -> const Material& { return material_named(s, name); };
   const vec3 painted = find("painted").albedo, screen = find("screen").emission;
   const dvec3 factor(0.5, 1, 0.25), emissive(2, 4, 8);
   for (int c = 0; c < 3; ++c) {
