@@ -422,14 +422,19 @@ TEST(MaxDepth, ZeroSeesOnlyEmissionDirectly) {
   EXPECT_EQ(c.shadow_rays, 0u);
 }
 
-TEST(NonFinite, SamplesAreDroppedAndCounted) {
+/// A sphere emitting infinite radiance against a white background: every camera ray that sees it carries inf, and
+/// the pixels on its outline get finite and non-finite samples.
+RenderScene infinite_emitter_scene() {
   Scene s;
-  // An emitter of infinite radiance: every camera ray that sees it carries inf.
   add_material(s, diffuse(vec3(0.5f), vec3(std::numeric_limits<float>::infinity())));
   s.background = vec3(1.0f);
   s.spheres.push_back({vec3(0.0f), 1.0f, 0});
   s.camera = Camera{vec3(0, 0, 3), vec3(0.0f), vec3(0, 1, 0), 60.0f};
-  RenderScene rs = make_render_scene(s);
+  return make_render_scene(s);
+}
+
+TEST(NonFinite, SamplesAreDroppedAndCounted) {
+  RenderScene rs = infinite_emitter_scene();
   RenderParams params;
   params.width = params.height = 8;
   Film film(8, 8);
@@ -442,6 +447,28 @@ TEST(NonFinite, SamplesAreDroppedAndCounted) {
   size_t counted = 0;
   for (uint32_t n : film.count) counted += n;
   EXPECT_EQ(counted + c.nonfinite_samples, 64u);
+}
+
+// A dropped sample still takes its index: the adaptive passes (Renderer::render_pass, which continue each pixel at
+// the samples it has drawn) give the film of frames 0..n-1 bit for bit, dropped samples and all. Continuing at the
+// count of kept samples instead would draw a dropped sample's index again, and get the same non-finite sample.
+TEST(NonFinite, PassesDrawTheIndexAfterADroppedSample) {
+  RenderScene rs = infinite_emitter_scene();
+  RenderParams params;
+  params.width = params.height = 8;
+  params.spp_per_frame = 1;
+  Renderer renderer(1);
+  Film frames(8, 8), passes(8, 8);
+  RenderCounters by_frame, by_pass;
+  for (uint32_t k = 0; k < 16; ++k) {
+    renderer.render_frame(rs, params, frames, k, by_frame);
+    renderer.render_pass(rs, params, passes, nullptr, by_pass);
+  }
+  ASSERT_GT(by_frame.nonfinite_samples, 0u);
+  EXPECT_EQ(by_pass.nonfinite_samples, by_frame.nonfinite_samples);
+  EXPECT_EQ(passes.count, frames.count);
+  EXPECT_EQ(passes.sum, frames.sum);
+  EXPECT_EQ(passes.taken, std::vector<uint32_t>(64, 16u));
 }
 
 /// RenderScene::tri_unlit_sides only skips light samples that add nothing: the same scene renders bit-identically
