@@ -158,6 +158,19 @@ std::vector<SceneLight> find_scene_lights(const Scene& scene) {
   return out;
 }
 
+std::vector<SceneLight> find_scene_lights(const Scene& scene, const std::vector<SceneLight>& before) {
+  std::vector<SceneLight> out = find_scene_lights(scene);
+  for (const SceneLight& l : before)
+    if (!emissive(scene, l.material)) out.push_back(l);
+  // find_scene_lights's order: mesh groups by mesh and first triangle, then quads, then spheres.
+  auto key = [](const SceneLight& l) {
+    const int rank = l.kind == SceneLightKind::triangles ? 0 : l.kind == SceneLightKind::quad ? 1 : 2;
+    return std::tuple(rank, l.shape, l.triangles.empty() ? 0u : l.triangles.front());
+  };
+  std::stable_sort(out.begin(), out.end(), [&](const SceneLight& a, const SceneLight& b) { return key(a) < key(b); });
+  return out;
+}
+
 LightPlacement light_placement(const Scene& scene, const SceneLight& light) {
   LightPlacement pl;
   switch (light.kind) {

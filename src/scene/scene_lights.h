@@ -23,6 +23,10 @@ struct SceneLight {
 /// vertices (same index or same position) and the same material form one light. Order: meshes, quads, spheres
 /// (the order of the scene's triangles), so "light N" is stable while the scene's materials do not change.
 std::vector<SceneLight> find_scene_lights(const Scene& scene);
+/// The same after an edit of materials only, keeping the lights of `before` whose material no longer emits (an
+/// intensity or colour edited to 0), in the same order: a light switched off stays in the viewer's list, to be
+/// switched on again, instead of vanishing from it with the selection that pointed at it.
+std::vector<SceneLight> find_scene_lights(const Scene& scene, const std::vector<SceneLight>& before);
 
 /// Where a light is and how big: its center (area-weighted centroid for triangles), two in-plane unit axes u, v
 /// (a quad's edges; for triangles two non-parallel boundary edges, so a parallelogram's sides) and its extent

@@ -115,6 +115,9 @@ TEST(Tiers, EveryEditKindTakesItsTierAndCostsWhatItShould) {
   EXPECT_NEAR(pl.size.y, 0.15f, 1e-5f);
   EXPECT_NEAR(pl.center.x, 0.1f, 1e-5f);
 
+  EXPECT_EQ(st.apply(LightEmissionEdit{0, vec3(1.0f, 0.5f, 0.25f), -2.0f}), Tier::material);
+  ASSERT_EQ(st.lights.size(), 1u) << "a light switched off stays in the list";
+  EXPECT_EQ(st.scene.materials[st.lights[0].material].emission, vec3(0.0f)) << "a negative intensity is off";
   EXPECT_EQ(st.apply(LightEmissionEdit{0, vec3(1.0f, 0.5f, 0.25f), 4.0f}), Tier::material);
   EXPECT_EQ(st.scene.materials[st.lights[0].material].emission, vec3(4.0f, 2.0f, 1.0f));
   EXPECT_EQ(st.geometry_refits, 3) << "colour and intensity need no refit";
@@ -151,6 +154,54 @@ TEST(Tiers, TierOfAgreesWithApplyForEveryKind) {
   EXPECT_EQ(tier_of(DividerEdit{}), Tier::display);
 }
 
+// The light panel, the script's `light N` and picking keep an index into the scene's lights: a scene with fewer
+// lights, loaded or edited into being, must not leave it pointing past them.
+/// The built-in Cornell box with a second ceiling light beside the first (same material).
+Scene cornell_with_two_lights() {
+  Scene two = builtin("cornell");
+  auto lit = std::find_if(two.quads.begin(), two.quads.end(),
+                          [&](const Quad& q) { return two.materials[q.material].emissive(); });
+  EXPECT_NE(lit, two.quads.end());
+  Quad second = *lit;
+  second.corner.x -= 0.5f;
+  two.quads.push_back(second);
+  return two;
+}
+
+TEST(Tiers, ASceneWithFewerLightsDropsASelectionPastThem) {
+  ViewerState st;
+  st.init(cornell_with_two_lights(), small_params(), {}, -1);
+  ASSERT_EQ(st.lights.size(), 2u);
+  st.selected_light = 1;
+  auto loaded = std::make_shared<LoadedScene>();
+  loaded->scene = builtin("cornell");
+  loaded->geo = make_render_geometry(loaded->scene);
+  EXPECT_EQ(st.apply(SceneEdit{loaded}), Tier::rebuild);
+  ASSERT_EQ(st.lights.size(), 1u);
+  EXPECT_EQ(st.selected_light, -1);
+}
+
+// Intensity 0 (the panel's drag goes down to it) switches a light off; it stays in the list, in its place and
+// selected, and the same edit switches it on again.
+TEST(Tiers, ALightSwitchedOffKeepsItsPlaceAndComesBack) {
+  ViewerState st;
+  st.init(cornell_with_two_lights(), small_params(), {}, -1);
+  const std::vector<SceneLight> before = st.lights;
+  ASSERT_EQ(before.size(), 2u);
+  st.selected_light = 1;
+  EXPECT_EQ(st.apply(LightEmissionEdit{1, vec3(1.0f), 0.0f}), Tier::material);
+  EXPECT_FALSE(st.scene.materials[st.lights[1].material].emissive());
+  ASSERT_EQ(st.lights.size(), 2u);
+  for (size_t i = 0; i < 2; ++i) {
+    EXPECT_EQ(st.lights[i].kind, before[i].kind);
+    EXPECT_EQ(st.lights[i].shape, before[i].shape);
+  }
+  EXPECT_EQ(st.selected_light, 1);
+  EXPECT_EQ(st.apply(LightEmissionEdit{1, vec3(1.0f, 0.5f, 0.5f), 3.0f}), Tier::material);
+  ASSERT_EQ(st.lights.size(), 2u);
+  EXPECT_EQ(st.scene.materials[st.lights[1].material].emission, vec3(3.0f, 1.5f, 1.5f));
+}
+
 TEST(Tiers, CompareRestartsBothSidesAndEveryEditRestartsBoth) {
   ViewerState st;
   st.init(builtin("cornell"), small_params(), {}, 1);
@@ -166,6 +217,13 @@ TEST(Tiers, CompareRestartsBothSidesAndEveryEditRestartsBoth) {
   EXPECT_EQ(st.apply(CompareEdit{b}), Tier::none) << "unchanged";
   EXPECT_EQ(st.apply(DividerEdit{0.25f}), Tier::display);
   EXPECT_EQ(st.divider, 0.25f);
+  for (auto [x, clamped] : {std::pair{1.5f, 1.0f}, std::pair{-0.5f, 0.0f}}) {
+    st.apply(DividerEdit{x});
+    EXPECT_EQ(st.divider, clamped) << "a divider of " << x;
+  }
+  EXPECT_EQ(st.apply(DividerEdit{std::numeric_limits<float>::quiet_NaN()}), Tier::none);
+  EXPECT_EQ(st.divider, 0.0f);
+  st.apply(DividerEdit{0.25f});
   EXPECT_EQ(st.session_b->epoch(), 1u) << "the divider never restarts";
   Camera cam = *st.scene.camera;
   cam.eye.x += 0.2f;
