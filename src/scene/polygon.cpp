@@ -30,7 +30,8 @@ void triangulate_polygon(std::span<const vec3> corners, std::vector<uvec3>& out)
     // The shorter diagonal gives the better-shaped pair, but only a diagonal inside the quad is right. In a concave
     // quad (a dart) that is the one through the reflex corner, which can be the longer: the other one's two
     // triangles overlap, one of them facing backwards. A diagonal is inside when its two triangles face the same
-    // way (in double: products of float differences neither overflow nor round to a wrong sign here).
+    // way (in double, so the products of float differences cannot overflow; rounding can flip the sign only for a
+    // nearly flat triangle, where either diagonal covers the quad about equally well).
     const dvec3 c0(corners[0]), c1(corners[1]), c2(corners[2]), c3(corners[3]);
     const bool inside02 = glm::dot(glm::cross(c1 - c0, c2 - c0), glm::cross(c2 - c0, c3 - c0)) > 0.0;
     const bool inside13 = glm::dot(glm::cross(c2 - c1, c3 - c1), glm::cross(c3 - c1, c0 - c1)) > 0.0;

@@ -94,7 +94,8 @@ Tier ViewerState::commit(Tier tier) {
     case Tier::material:
     case Tier::rebuild: {
       render_scene = std::make_shared<RenderScene>(make_render_scene(scene, geo, AutoPilot::deferred));
-      std::vector<SceneLight> found = tier == Tier::rebuild ? find_scene_lights(scene) : find_scene_lights(scene, lights);
+      std::vector<SceneLight> found =
+          tier == Tier::rebuild ? find_scene_lights(scene) : find_scene_lights(scene, lights);
       if (tier == Tier::rebuild || found.size() != lights.size()) {
         lights = std::move(found);
         if (selected_light >= int(lights.size())) selected_light = -1;
