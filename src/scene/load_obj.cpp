@@ -63,7 +63,11 @@ Result<Libraries> load_libraries(const std::string& path, const ObjScan& scan, s
     if (!lib) return Error{located(path, ref.line) + "material library " + lib.error()};
     for (std::string& w : lib->warnings) warnings.push_back(std::move(w));
     for (Material& m : lib->materials) {
-      if (!libs.by_name.try_emplace(m.name, uint32_t(libs.materials.size())).second) continue;
+      if (!libs.by_name.try_emplace(m.name, uint32_t(libs.materials.size())).second) {
+        warnings.push_back(located(path, ref.line) + "material library " + file.lexically_normal().string() +
+                           " defines '" + m.name + "' again: the first definition is used");
+        continue;
+      }
       libs.materials.push_back(std::move(m));
     }
   }

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 
 #include "render/auto_light_sampling.h"
 #include "scene/load.h"
@@ -64,6 +65,27 @@ TEST(AutoLightSampling, DeterministicForAGivenSceneAndCamera) {
   const AutoLightSamplingChoice b = choose_auto_light_sampling(make_render_scene(s));
   EXPECT_EQ(a.gain, b.gain);
   EXPECT_EQ(a.first_spread, b.first_spread);
+}
+
+TEST(AutoLightSampling, BothPilotRunsDrawTheSameNumbers) {
+  // The runs differ only in the first vertex's light sample (common random numbers), so a light too small and far
+  // for either threshold to take solid angle gives both runs the same paths: no gain, exactly, not noise about it.
+  Scene s = lit_plane();
+  s.quads.back() = {vec3(-0.02f, 30.0f, -0.02f), vec3(0.04f, 0, 0), vec3(0, 0, 0.04f), 1};
+  s.materials[1].emission = vec3(1e5f);
+  const AutoLightSamplingChoice c = choose_auto_light_sampling(make_render_scene(s));
+  EXPECT_EQ(c.gain, 0.0f);
+}
+
+TEST(AutoLightSampling, ANonFinitePathDoesNotSpoilTheChoice) {
+  // A pixel whose paths reach an infinite emitter: its samples are left out, as the film drops them (render/film.h),
+  // and the other pixels still find solid angle's gain on the lit plane.
+  Scene s = lit_plane();
+  const uint32_t hot = add_material(s, diffuse(vec3(0.5f), vec3(std::numeric_limits<float>::infinity())));
+  s.spheres.push_back({vec3(0.4f, 0.05f, 0.4f), 0.05f, hot});
+  const RenderScene rs = make_render_scene(s);
+  EXPECT_GT(rs.auto_pilot_gain, 0.5f);
+  EXPECT_EQ(rs.auto_first_spread, kAutoMinSpread);
 }
 
 TEST(AutoLightSampling, ScenesWithoutPlanarLightsAreNotMeasured) {

@@ -156,8 +156,21 @@ TEST(LoadObj, DegenerateTrianglesAreDroppedWithOneCountedWarning) {
   EXPECT_EQ(r->meshes[0].indices.size(), 1u);
   EXPECT_EQ(r->meshes[0].positions.size(), 3u);  // the vertex only the dropped triangle used is gone too
   ASSERT_EQ(r->warnings.size(), 1u);
-  EXPECT_EQ(r->warnings[0], good("with_degenerate.obj") + ":6: 1 degenerate (zero-area) triangle dropped (the first "
+  EXPECT_EQ(r->warnings[0], good("with_degenerate.obj") + ":6: 3 degenerate (zero-area) triangles dropped (the first "
                                                           "from this line)");
+}
+
+TEST(LoadObj, TheFirstLibraryToDefineAMaterialWinsAndSaysSo) {
+  Result<Scene> r = load_unfinalized("two_libraries.obj");
+  ASSERT_TRUE(r.ok());
+  EXPECT_EQ(face_material(*r, 0).name, "paint");
+  expect_vec3(face_material(*r, 0).albedo, vec3(0.6f, 0.2f, 0.2f));  // libraries_first.mtl's, not the second's
+  EXPECT_EQ(face_material(*r, 1).name, "trim");
+  expect_vec3(face_material(*r, 1).albedo, vec3(0.1f, 0.5f, 0.1f));
+  ASSERT_EQ(r->warnings.size(), 1u);
+  EXPECT_EQ(r->warnings[0], good("two_libraries.obj") + ":3: material library " +
+                                (fs::path(good("libraries_second.mtl"))).lexically_normal().string() +
+                                " defines 'paint' again: the first definition is used");
 }
 
 TEST(LoadObj, NegativeIndicesCountBackFromTheLastElement) {

@@ -480,6 +480,127 @@ TEST(SceneLights, TwoEmissiveTrianglesAreOneLightResizedInTheirPlane) {
   EXPECT_NEAR(area, 0.3f * 0.05f, 1e-6f);
 }
 
+TEST(SceneLights, TouchingLightsOfTwoMaterialsAreTwoLights) {
+  // Two emissive panels side by side, sharing an edge (two vertices), one red and one blue: one light each, so the
+  // Lights panel edits each colour on its own.
+  TempDir dir;
+  std::ofstream(dir.path / "panels.mtl") << "newmtl red\nKe 4 0 0\nnewmtl blue\nKe 0 0 4\nnewmtl white\nKd 0.5 0.5 0.5\n";
+  std::ofstream(dir.path / "panels.obj") << "mtllib panels.mtl\n"
+                                            "v 0 1 0\nv 1 1 0\nv 1 1 1\nv 0 1 1\nv 2 1 0\nv 2 1 1\n"
+                                            "v -1 0 -1\nv 3 0 -1\nv 3 0 2\nv -1 0 2\n"
+                                            "usemtl red\nf 1 2 3\nf 1 3 4\n"
+                                            "usemtl blue\nf 2 5 6\nf 2 6 3\n"
+                                            "usemtl white\nf 7 10 9 8\n";
+  Result<Scene> s = load_scene((dir.path / "panels.obj").string());
+  ASSERT_TRUE(s.ok()) << s.error();
+  ViewerState st;
+  st.init(std::move(*s), small_params(), {}, -1);
+  ASSERT_EQ(st.lights.size(), 2u);
+  for (int l = 0; l < 2; ++l) {
+    const SceneLight& light = st.lights[size_t(l)];
+    EXPECT_EQ(light.triangles.size(), 2u) << l;
+    const std::string name = st.scene.materials[light.material].name;
+    EXPECT_EQ(name, l == 0 ? "red" : "blue");
+    for (uint32_t t : light.triangles) EXPECT_EQ(st.scene.meshes[0].materials[t], light.material) << name;
+    EXPECT_NEAR(light_placement(st.scene, light).center.x, l == 0 ? 0.5f : 1.5f, 1e-6f) << name;
+  }
+}
+
+TEST(SceneLights, AShearedTriangleLightIsMeasuredAndResizedAlongItsSides) {
+  // A parallelogram light of two triangles, sides (1, 0, 0) and (0.5, 0, 1): its size is the sides' lengths, not
+  // its extent along x and z, and a resize stretches it along a side, keeping the other.
+  TempDir dir;
+  std::ofstream(dir.path / "lamp.mtl") << "newmtl lamp\nKe 5 5 5\n";
+  std::ofstream(dir.path / "lamp.obj") << "mtllib lamp.mtl\nv 0 1 0\nv 1 1 0\nv 1.5 1 1\nv 0.5 1 1\n"
+                                          "usemtl lamp\nf 1 2 3\nf 1 3 4\n";
+  Result<Scene> s = load_scene((dir.path / "lamp.obj").string());
+  ASSERT_TRUE(s.ok()) << s.error();
+  ViewerState st;
+  st.init(std::move(*s), small_params(), {}, -1);
+  ASSERT_EQ(st.lights.size(), 1u);
+  const float side = std::sqrt(1.25f);
+  LightPlacement pl = light_placement(st.scene, st.lights[0]);
+  EXPECT_NEAR(pl.size.x, 1.0f, 1e-6f);
+  EXPECT_NEAR(pl.size.y, side, 1e-6f);
+  EXPECT_NEAR(glm::length(pl.center - vec3(0.75f, 1.0f, 0.5f)), 0.0f, 1e-6f);
+  ASSERT_EQ(st.apply(LightShapeEdit{0, {}, vec2(2.0f, side), {}}), Tier::light_refit);
+  pl = light_placement(st.scene, st.lights[0]);
+  EXPECT_NEAR(pl.size.x, 2.0f, 1e-5f);
+  EXPECT_NEAR(pl.size.y, side, 1e-5f);
+  float area = 0.0f;
+  for (const Light& l : st.render_scene->lights.lights) area += l.area;
+  EXPECT_NEAR(area, 2.0f, 1e-5f) << "twice the area: stretched along one side";
+  std::vector<vec3> corners;
+  const Mesh& m = st.scene.meshes[0];
+  for (uvec3 t : m.indices)
+    for (int k = 0; k < 3; ++k) corners.push_back(m.positions[t[k]]);
+  for (vec3 want : {vec3(-0.5f, 1, 0), vec3(1.5f, 1, 0), vec3(2, 1, 1), vec3(0, 1, 1)})
+    EXPECT_TRUE(std::any_of(corners.begin(), corners.end(), [&](vec3 c) { return glm::length(c - want) < 1e-5f; }))
+        << want.x << " " << want.y << " " << want.z;
+}
+
+TEST(SceneLights, ResizingAFoldedLightKeepsItsRelief) {
+  // Two emissive triangles meeting at a fold (one corner raised): resizing to the size it has changes nothing, and
+  // any resize keeps each corner's height above the light's mean plane.
+  TempDir dir;
+  std::ofstream(dir.path / "lamp.mtl") << "newmtl lamp\nKe 5 5 5\n";
+  std::ofstream(dir.path / "lamp.obj") << "mtllib lamp.mtl\nv 0 1 0\nv 1 1.2 0\nv 1 1 1\nv 0 1 1\n"
+                                          "usemtl lamp\nf 1 3 2\nf 1 4 3\n";
+  Result<Scene> s = load_scene((dir.path / "lamp.obj").string());
+  ASSERT_TRUE(s.ok()) << s.error();
+  ViewerState st;
+  st.init(std::move(*s), small_params(), {}, -1);
+  ASSERT_EQ(st.lights.size(), 1u);
+  const std::vector<vec3> before = st.scene.meshes[0].positions;
+  const LightPlacement pl = light_placement(st.scene, st.lights[0]);
+  ASSERT_EQ(st.apply(LightShapeEdit{0, {}, pl.size, {}}), Tier::light_refit);
+  const std::vector<vec3>& after = st.scene.meshes[0].positions;
+  ASSERT_EQ(after.size(), before.size());
+  for (size_t i = 0; i < before.size(); ++i)
+    EXPECT_NEAR(glm::length(after[i] - before[i]), 0.0f, 1e-5f) << "corner " << i;
+}
+
+TEST(SceneLights, AMovedLightIsWhereTheSavedSceneLoadsIt) {
+  // Moving a light of an OBJ changes the mesh: the saved scene must write the mesh out rather than name its file,
+  // whose light is where it was.
+  TempDir dir;
+  Result<Scene> s = load_scene(write_two_triangle_light_obj(dir.path));
+  ASSERT_TRUE(s.ok()) << s.error();
+  ViewerState st;
+  st.init(std::move(*s), small_params(), {}, -1);
+  ASSERT_EQ(st.lights.size(), 1u);
+  ASSERT_EQ(st.apply(LightShapeEdit{0, vec3(0.5f, 0.9f, 0.25f), {}, {}}), Tier::light_refit);
+  const std::string out = (dir.path / "moved.json").string();
+  ASSERT_FALSE(st.save_scene(out).has_value());
+  Result<Scene> back = load_scene(out);
+  ASSERT_TRUE(back.ok()) << back.error();
+  const std::vector<SceneLight> lights = find_scene_lights(*back);
+  ASSERT_EQ(lights.size(), 1u);
+  const LightPlacement pl = light_placement(*back, lights[0]);
+  EXPECT_NEAR(glm::length(pl.center - vec3(0.5f, 0.9f, 0.25f)), 0.0f, 1e-5f);
+}
+
+TEST(SceneLights, AFarMeshLightIsPlacedInWorldSpace) {
+  // Far from the origin a mesh keeps its positions relative to an origin in double (scene.h): the light's
+  // placement, and a move to a world position, are in world space all the same.
+  TempDir dir;
+  write_two_triangle_light_obj(dir.path);
+  const std::string json = (dir.path / "far.json").string();
+  std::ofstream(json) << R"({"shapes": [{"type": "mesh", "file": "room.obj", "transform": {"translate": [100000, 0, 0]}}]})";
+  Result<Scene> s = load_scene(json);
+  ASSERT_TRUE(s.ok()) << s.error();
+  ViewerState st;
+  st.init(std::move(*s), small_params(), {}, -1);
+  ASSERT_EQ(st.lights.size(), 1u);
+  LightPlacement pl = light_placement(st.scene, st.lights[0]);
+  EXPECT_NEAR(pl.center.x, 100000.5f, 0.02f);
+  EXPECT_NEAR(pl.center.y, 1.0f, 1e-5f);
+  ASSERT_EQ(st.apply(LightShapeEdit{0, vec3(100000.25f, 0.5f, 0.5f), {}, {}}), Tier::light_refit);
+  pl = light_placement(st.scene, st.lights[0]);
+  EXPECT_NEAR(pl.center.x, 100000.25f, 0.02f);
+  EXPECT_NEAR(pl.center.y, 0.5f, 1e-5f);
+}
+
 TEST(SceneLights, EveryLightOfEveryBuiltinSceneCanBeResizedAndScaled) {
   for (const BuiltinAsset& a : builtin_assets()) {
     if (std::string_view(a.name) == "cornell-large-mesh") continue;  // a 1M-triangle BVH: slow under sanitizers
@@ -493,6 +614,7 @@ TEST(SceneLights, EveryLightOfEveryBuiltinSceneCanBeResizedAndScaled) {
         LightPlacement after = light_placement(st.scene, st.lights[size_t(l)]);
         EXPECT_NEAR(after.size.x, 1.5f * before.size.x, 1e-5f) << a.name << " light " << l;
         EXPECT_NEAR(after.size.y, 0.5f * before.size.y, 1e-5f) << a.name << " light " << l;
+        EXPECT_NEAR(glm::length(after.center - before.center), 0.0f, 1e-5f) << a.name << " light " << l;
       }
       LightPlacement mid = light_placement(st.scene, st.lights[size_t(l)]);
       ASSERT_EQ(st.apply(LightShapeEdit{l, {}, {}, 2.0f}), Tier::light_refit) << a.name;
