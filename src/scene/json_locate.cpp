@@ -1,6 +1,8 @@
 #include "scene/json_locate.h"
 
 #include <charconv>
+#include <optional>
+#include <tuple>
 
 namespace pt {
 
@@ -103,27 +105,32 @@ struct Cursor {
       }
     } while (depth > 0);
   }
-  /// At an object: moves to the value of `key` and returns true, or returns false.
+  /// At an object: moves to the value of `key` and returns true, or returns false. A key given twice is found at its
+  /// last occurrence: the parser keeps the last value (nlohmann's object insertion overwrites), so that is the one a
+  /// message is about.
   bool enter_key(const std::string& key) {
     skip_ws();
     if (done() || peek() != '{') return false;
     ++i;
+    std::optional<std::pair<size_t, int>> found;  // (position, line) of the last match's value
     for (;;) {
       skip_ws();
-      if (done() || peek() == '}') return false;
+      if (done() || peek() == '}') break;
       if (peek() == ',') {
         ++i;
         continue;
       }
-      if (peek() != '"') return false;
+      if (peek() != '"') break;
       bool match = string() == key;
       skip_ws();
-      if (done() || peek() != ':') return false;
+      if (done() || peek() != ':') break;
       ++i;
       skip_ws();
-      if (match) return true;
+      if (match) found = std::pair{i, line};
       skip_value();
     }
+    if (found) std::tie(i, line) = *found;
+    return found.has_value();
   }
   /// At an array: moves to element `index` and returns true, or returns false.
   bool enter_index(size_t index) {

@@ -10,7 +10,8 @@
 ///   ("default") as OBJ faces do (glTF's own default, a white rough metal, would reflect all light).
 /// Geometry: triangles, strips and fans (converted); points and lines skipped with a warning naming the mesh;
 /// indexed or not (u8/u16/u32), strided and interleaved views, sparse accessors (applied here: tinygltf 2.7 parses
-/// them but does not resolve them); NORMAL gives shading normals as OBJ vn does. The default scene's node tree
+/// them but does not resolve them), KHR_mesh_quantization's integer positions and normals; NORMAL gives shading
+/// normals as OBJ vn does. The default scene's node tree
 /// (matrix or TRS) places every mesh instance; a negative-determinant transform keeps the front side (two corners
 /// swapped, as for mirrored JSON transforms). Skins, morph targets and animations are ignored (rest pose).
 ///
@@ -141,13 +142,20 @@ class Reader {
  public:
   explicit Reader(const tinygltf::Model& model) : m_(model) {}
 
-  /// The float VEC3 elements of accessor `index` (POSITION, NORMAL), sparse substitutions applied.
+  /// The VEC3 elements of accessor `index` (POSITION, NORMAL), sparse substitutions applied: float, or the
+  /// (normalized) byte and short of KHR_mesh_quantization, which gltfpack writes by default. A normalized integer
+  /// maps to [0, 1] or [-1, 1] as glTF 2.0 section 3.11 says; a plain one is its value (the node's transform scales
+  /// it back).
   std::vector<vec3> vec3s(int index, const std::string& what) {
     const tinygltf::Accessor& a = accessor(index, what);
-    if (a.type != TINYGLTF_TYPE_VEC3 || a.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT)
-      fail(what + " " + label(index) + " must be VEC3 of float");
+    const int type = a.componentType;
+    const size_t size = component_size(type);
+    if (a.type != TINYGLTF_TYPE_VEC3 || size == 0 || type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT)
+      fail(what + " " + label(index) + " must be VEC3 of float (or of byte or short, KHR_mesh_quantization)");
     std::vector<vec3> out(a.count, vec3(0.0f));
-    read(a, index, 12, [&](size_t i, const unsigned char* p) { std::memcpy(&out[i], p, 12); });
+    read(a, index, 3 * size, [&](size_t i, const unsigned char* p) {
+      for (int k = 0; k < 3; ++k) out[i][k] = component_at(p + size_t(k) * size, type, a.normalized);
+    });
     return out;
   }
 
@@ -171,6 +179,30 @@ class Reader {
     if (size == 1) return *p;
     if (size == 2) return uint32_t(p[0]) | uint32_t(p[1]) << 8;
     return uint32_t(p[0]) | uint32_t(p[1]) << 8 | uint32_t(p[2]) << 16 | uint32_t(p[3]) << 24;
+  }
+  /// One float, byte or short component (little-endian, as glTF stores them).
+  static float component_at(const unsigned char* p, int type, bool normalized) {
+    switch (type) {
+      case TINYGLTF_COMPONENT_TYPE_BYTE: {
+        const float v = float(int8_t(*p));
+        return normalized ? std::max(v / 127.0f, -1.0f) : v;
+      }
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return normalized ? float(*p) / 255.0f : float(*p);
+      case TINYGLTF_COMPONENT_TYPE_SHORT: {
+        const float v = float(int16_t(uint16_t(unsigned_at(p, 2))));
+        return normalized ? std::max(v / 32767.0f, -1.0f) : v;
+      }
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
+        const float v = float(unsigned_at(p, 2));
+        return normalized ? v / 65535.0f : v;
+      }
+      default: {
+        const uint32_t bits = unsigned_at(p, 4);
+        float f;
+        std::memcpy(&f, &bits, 4);
+        return f;
+      }
+    }
   }
   std::string label(int index) const { return name_of("accessor", size_t(index), m_.accessors[size_t(index)].name); }
 
@@ -550,7 +582,8 @@ std::optional<Camera> node_camera(const tinygltf::Camera& c, const dmat4& world)
 
 const std::set<std::string>& supported_required_extensions() {
   static const std::set<std::string> s = {"KHR_materials_emissive_strength", "KHR_materials_ior",
-                                          "KHR_materials_transmission", "KHR_texture_transform"};
+                                          "KHR_materials_transmission", "KHR_mesh_quantization",
+                                          "KHR_texture_transform"};
   return s;
 }
 

@@ -46,6 +46,14 @@ TEST(JsonLocate, MatchesKeysWrittenWithEscapes) {
   EXPECT_EQ(json_line_of(text, {"tab\tkey"}), 5);
 }
 
+TEST(JsonLocate, AKeyGivenTwiceIsFoundWhereTheParserTakesItsValue) {
+  // nlohmann keeps the last value of a repeated key, so a message about that value names the last one's line.
+  std::string text = "{\n\"a\": {\"b\": 1,\n \"b\": 2,\n \"c\": 0},\n\"a\":\n {\"b\": 3}\n}";
+  EXPECT_EQ(json_line_of(text, {"a"}), 6);
+  EXPECT_EQ(json_line_of(text, {"a", "b"}), 6);
+  EXPECT_EQ(json_line_of(text.substr(0, text.find(",\n\"a\":\n")) + "}", {"a", "b"}), 3);
+}
+
 TEST(JsonLocate, SkipsAByteOrderMarkAndCountsCarriageReturnLineEnds) {
   std::string text = "\xEF\xBB\xBF{\r\n \"a\": 1,\r\n \"b\": 2\r\n}";
   EXPECT_EQ(json_line_of(text, {"b"}), 3);

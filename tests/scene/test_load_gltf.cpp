@@ -2,6 +2,7 @@
 // mapping, .glb, glTF inside scene JSON, and every kind of bad input as one "FILE: reason" line.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <functional>
 #include <glm/gtc/matrix_transform.hpp>
@@ -110,6 +111,51 @@ TEST(Gltf, InterleavedPositionsAndNormals) {
     EXPECT_EQ(m.positions[m.indices[0][k]], kTriangle[size_t(k)]);
     EXPECT_NEAR(glm::distance(m.normals[m.normal_indices[0][k]], normals[k]), 0.0f, 1e-6f);
   }
+}
+
+TEST(Gltf, QuantizedPositionsAndNormals) {
+  // KHR_mesh_quantization (gltfpack's default output): positions as normalized or plain integers, scaled back by the
+  // node's transform; normals as normalized bytes. Elements padded to 4 bytes, as the extension requires.
+  TempDir dir;
+  GltfBuilder b;
+  auto quantized = [&](const void* data, size_t bytes, size_t stride, int component, bool normalized) {
+    int acc = b.accessor(b.view(data, bytes, stride), 0, component, 3, "VEC3");
+    b.j["accessors"][size_t(acc)]["normalized"] = normalized;
+    return acc;
+  };
+  const uint16_t u16[12] = {0, 0, 0, 0, 65535, 0, 0, 0, 0, 65535, 0, 0};  // normalized: 0 and 1
+  const int8_t n8[12] = {0, 0, 127, 0, 0, 0, 127, 0, 0, -128, 0, 0};      // normalized: (0, 0, 1), (0, -1, 0)
+  b.node({{"mesh", b.mesh(quantized(u16, sizeof u16, 8, 5123, true), -1, -1, quantized(n8, sizeof n8, 4, 5120, true))},
+          {"scale", {2, 2, 2}}});
+  const int16_t s16[12] = {-3, 0, 0, 0, 5, 0, 0, 0, 0, 7, 0, 0};  // plain integers: their values
+  b.node({{"mesh", b.mesh(quantized(s16, sizeof s16, 8, 5122, false))}, {"translation", {0, 0, -1}}});
+  const int8_t s8[12] = {-128, 0, 0, 0, 127, 0, 0, 0, 0, 127, 0, 0};  // normalized: -1 (clamped from -128/127), 1
+  b.node({{"mesh", b.mesh(quantized(s8, sizeof s8, 4, 5120, true))}, {"translation", {0, 0, -2}}});
+  b.j["extensionsUsed"] = b.j["extensionsRequired"] = {"KHR_mesh_quantization"};
+  test::write_file(dir / "q.gltf", b.embedded());
+  Scene s = load_ok(dir / "q.gltf");
+  ASSERT_EQ(s.meshes.size(), 1u);
+  const Mesh& m = s.meshes[0];
+  ASSERT_EQ(m.indices.size(), 3u);
+  std::vector<vec3> corners;
+  for (uvec3 t : m.indices)
+    for (int k = 0; k < 3; ++k) corners.push_back(vec3(m.origin + dvec3(m.positions[t[k]])));
+  const std::vector<vec3> want = {{0, 0, 0}, {2, 0, 0}, {0, 2, 0}, {-3, 0, -1}, {5, 0, -1}, {0, 7, -1},
+                                  {-1, 0, -2}, {1, 0, -2}, {0, 1, -2}};
+  for (vec3 w : want)
+    EXPECT_TRUE(std::any_of(corners.begin(), corners.end(), [&](vec3 c) { return glm::distance(c, w) < 1e-5f; }))
+        << w.x << " " << w.y << " " << w.z;
+  ASSERT_FALSE(m.normals.empty());
+  int up = 0, down = 0;
+  for (vec3 n : m.normals) up += glm::distance(n, vec3(0, 0, 1)) < 1e-6f, down += glm::distance(n, vec3(0, -1, 0)) < 1e-6f;
+  EXPECT_GE(up, 1);
+  EXPECT_GE(down, 1);
+  // Integer types the extension does not allow are still errors.
+  const uint32_t u32[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+  GltfBuilder bad;
+  bad.node({{"mesh", bad.mesh(bad.accessor(bad.view(u32, sizeof u32), 0, 5125, 3, "VEC3"))}});
+  test::write_file(dir / "bad.gltf", bad.embedded());
+  EXPECT_NE(load_error(dir / "bad.gltf").find("must be VEC3 of float"), std::string::npos) << load_error(dir / "bad.gltf");
 }
 
 TEST(Gltf, StripsAndFansAreConvertedPointsAndLinesSkipped) {

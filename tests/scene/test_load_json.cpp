@@ -296,6 +296,14 @@ TEST(LoadJson, SyntaxErrorsGiveLineAndColumn) {
   EXPECT_TRUE(r.error().starts_with("s.json:3: invalid JSON (column 23): syntax error")) << r.error();
 }
 
+TEST(LoadJson, ARepeatedKeyIsReportedWhereItsValueIsUsed) {
+  // JSON leaves repeated keys to the parser; nlohmann takes the last value, so the error names that one's line.
+  Result<Scene> r = parse("{\"camera\": {\"eye\": [0, 0, 5], \"target\": [0, 0, 0],\n \"fov\": 30,\n \"fov\": 200},\n"
+                          "\"shapes\": []}", "dup.json");
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.error(), "dup.json:3: camera.fov: fov must be between 0 and 180 degrees (exclusive)");
+}
+
 TEST(LoadJson, AcceptsAByteOrderMarkAndLocatesAfterIt) {
   Result<Scene> r = parse("\xEF\xBB\xBF{\n\"shapes\": [\n{\"type\": \"sphere\", \"radius\": -1}]}", "bom.json");
   ASSERT_FALSE(r.ok());
