@@ -50,6 +50,8 @@ const BadCase kCases[] = {
   // JSON values
   {"unknown_material_type.json",  3, "unknown material type 'metal'"},
   {"unknown_material_ref.json",   5, "unknown material 'b'"},
+  {"zero_area_quad_unknown_material.json", 4, "shapes[0].material: unknown material 'nowhere'"},
+  {"camera_on_obj_mesh.json",     4, "shapes[0].camera: \"camera\" picks a camera of a .gltf/.glb file"},
   {"negative_radius.json",        4, "radius must be positive"},
   {"zero_radius.json",            1, "radius must be positive"},
   {"bad_ior.json",                3, "ior must be positive"},

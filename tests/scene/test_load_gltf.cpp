@@ -413,6 +413,18 @@ TEST(Gltf, SceneJsonMeshShapeTransformsOverridesAndPicksCamera) {
 
   test::write_file(dir / "bad.json", R"({"shapes": [{"type": "mesh", "file": "t.glb", "camera": 3}]})");
   EXPECT_NE(load_error(dir / "bad.json").find("camera 3 out of range"), std::string::npos);
+  // A rotating transform turns the camera's up with it (a quarter turn about z: +y up becomes -x).
+  test::write_file(dir / "turned.json", R"({"shapes": [
+    {"type": "mesh", "file": "t.glb", "transform": {"rotate": [0, 0, 1, 90]}, "camera": 0}]})");
+  Scene turned = load_ok(dir / "turned.json");
+  ASSERT_TRUE(turned.camera.has_value());
+  EXPECT_LT(glm::distance(glm::normalize(turned.camera->up), vec3(-1, 0, 0)), 1e-5f);
+  EXPECT_LT(glm::distance(turned.camera->eye, vec3(0, 0, 5)), 1e-5f);
+  // The scene's own camera and a picked glTF camera conflict: which one was meant is not guessed.
+  test::write_file(dir / "both.json", R"({"camera": {"eye": [0, 0, 3], "target": [0, 0, 0]}, "shapes": [
+    {"type": "mesh", "file": "t.glb", "camera": 0}]})");
+  EXPECT_NE(load_error(dir / "both.json").find("shapes[0].camera: the scene already has a \"camera\""),
+            std::string::npos) << load_error(dir / "both.json");
 }
 
 // --- bad input ---------------------------------------------------------------------------------------------------

@@ -422,12 +422,17 @@ TEST(Stats, LatencyPercentilesAreNearestRanksOfTheSortedValues) {
   EXPECT_EQ(percentile(v, 1.0), 99.0);
 }
 
+/// Loads the scene file `path` into `st`.
+void open_file(ViewerState& st, const std::string& path) {
+  Result<Scene> s = load_scene(path);
+  ASSERT_TRUE(s.ok()) << s.error();
+  st.init(std::move(*s), small_params(), {}, -1);
+}
+
 TEST(SceneLights, TwoEmissiveTrianglesAreOneLightResizedInTheirPlane) {
   TempDir dir;
-  Result<Scene> s = load_scene(write_two_triangle_light_obj(dir.path));
-  ASSERT_TRUE(s.ok()) << s.error();
   ViewerState st;
-  st.init(std::move(*s), small_params(), {}, -1);
+  open_file(st, write_two_triangle_light_obj(dir.path));
   ASSERT_EQ(st.lights.size(), 1u);
   EXPECT_EQ(st.lights[0].kind, SceneLightKind::triangles);
   EXPECT_EQ(st.lights[0].triangles.size(), 2u);
@@ -491,10 +496,8 @@ TEST(SceneLights, TouchingLightsOfTwoMaterialsAreTwoLights) {
                                             "usemtl red\nf 1 2 3\nf 1 3 4\n"
                                             "usemtl blue\nf 2 5 6\nf 2 6 3\n"
                                             "usemtl white\nf 7 10 9 8\n";
-  Result<Scene> s = load_scene((dir.path / "panels.obj").string());
-  ASSERT_TRUE(s.ok()) << s.error();
   ViewerState st;
-  st.init(std::move(*s), small_params(), {}, -1);
+  open_file(st, (dir.path / "panels.obj").string());
   ASSERT_EQ(st.lights.size(), 2u);
   for (int l = 0; l < 2; ++l) {
     const SceneLight& light = st.lights[size_t(l)];
@@ -506,17 +509,19 @@ TEST(SceneLights, TouchingLightsOfTwoMaterialsAreTwoLights) {
   }
 }
 
+/// Opens in `st` an OBJ of `body` (vertices and faces), every face of the emissive material "lamp".
+void open_lamp_obj(ViewerState& st, const TempDir& dir, const std::string& body) {
+  std::ofstream(dir.path / "lamp.mtl") << "newmtl lamp\nKe 5 5 5\n";
+  std::ofstream(dir.path / "lamp.obj") << "mtllib lamp.mtl\nusemtl lamp\n" << body;
+  open_file(st, (dir.path / "lamp.obj").string());
+}
+
 TEST(SceneLights, AShearedTriangleLightIsMeasuredAndResizedAlongItsSides) {
   // A parallelogram light of two triangles, sides (1, 0, 0) and (0.5, 0, 1): its size is the sides' lengths, not
   // its extent along x and z, and a resize stretches it along a side, keeping the other.
   TempDir dir;
-  std::ofstream(dir.path / "lamp.mtl") << "newmtl lamp\nKe 5 5 5\n";
-  std::ofstream(dir.path / "lamp.obj") << "mtllib lamp.mtl\nv 0 1 0\nv 1 1 0\nv 1.5 1 1\nv 0.5 1 1\n"
-                                          "usemtl lamp\nf 1 2 3\nf 1 3 4\n";
-  Result<Scene> s = load_scene((dir.path / "lamp.obj").string());
-  ASSERT_TRUE(s.ok()) << s.error();
   ViewerState st;
-  st.init(std::move(*s), small_params(), {}, -1);
+  open_lamp_obj(st, dir, "v 0 1 0\nv 1 1 0\nv 1.5 1 1\nv 0.5 1 1\nf 1 2 3\nf 1 3 4\n");
   ASSERT_EQ(st.lights.size(), 1u);
   const float side = std::sqrt(1.25f);
   LightPlacement pl = light_placement(st.scene, st.lights[0]);
@@ -540,16 +545,11 @@ TEST(SceneLights, AShearedTriangleLightIsMeasuredAndResizedAlongItsSides) {
 }
 
 TEST(SceneLights, ResizingAFoldedLightKeepsItsRelief) {
-  // Two emissive triangles meeting at a fold (one corner raised): resizing to the size it has changes nothing, and
-  // any resize keeps each corner's height above the light's mean plane.
+  // Two emissive triangles meeting at a fold (one corner raised): a resize works in the light's mean plane and
+  // keeps each corner's height above it, so resizing to the size it has changes nothing.
   TempDir dir;
-  std::ofstream(dir.path / "lamp.mtl") << "newmtl lamp\nKe 5 5 5\n";
-  std::ofstream(dir.path / "lamp.obj") << "mtllib lamp.mtl\nv 0 1 0\nv 1 1.2 0\nv 1 1 1\nv 0 1 1\n"
-                                          "usemtl lamp\nf 1 3 2\nf 1 4 3\n";
-  Result<Scene> s = load_scene((dir.path / "lamp.obj").string());
-  ASSERT_TRUE(s.ok()) << s.error();
   ViewerState st;
-  st.init(std::move(*s), small_params(), {}, -1);
+  open_lamp_obj(st, dir, "v 0 1 0\nv 1 1.2 0\nv 1 1 1\nv 0 1 1\nf 1 3 2\nf 1 4 3\n");
   ASSERT_EQ(st.lights.size(), 1u);
   const std::vector<vec3> before = st.scene.meshes[0].positions;
   const LightPlacement pl = light_placement(st.scene, st.lights[0]);
@@ -564,10 +564,8 @@ TEST(SceneLights, AMovedLightIsWhereTheSavedSceneLoadsIt) {
   // Moving a light of an OBJ changes the mesh: the saved scene must write the mesh out rather than name its file,
   // whose light is where it was.
   TempDir dir;
-  Result<Scene> s = load_scene(write_two_triangle_light_obj(dir.path));
-  ASSERT_TRUE(s.ok()) << s.error();
   ViewerState st;
-  st.init(std::move(*s), small_params(), {}, -1);
+  open_file(st, write_two_triangle_light_obj(dir.path));
   ASSERT_EQ(st.lights.size(), 1u);
   ASSERT_EQ(st.apply(LightShapeEdit{0, vec3(0.5f, 0.9f, 0.25f), {}, {}}), Tier::light_refit);
   const std::string out = (dir.path / "moved.json").string();
@@ -587,10 +585,8 @@ TEST(SceneLights, AFarMeshLightIsPlacedInWorldSpace) {
   write_two_triangle_light_obj(dir.path);
   const std::string json = (dir.path / "far.json").string();
   std::ofstream(json) << R"({"shapes": [{"type": "mesh", "file": "room.obj", "transform": {"translate": [100000, 0, 0]}}]})";
-  Result<Scene> s = load_scene(json);
-  ASSERT_TRUE(s.ok()) << s.error();
   ViewerState st;
-  st.init(std::move(*s), small_params(), {}, -1);
+  open_file(st, json);
   ASSERT_EQ(st.lights.size(), 1u);
   LightPlacement pl = light_placement(st.scene, st.lights[0]);
   EXPECT_NEAR(pl.center.x, 100000.5f, 0.02f);
