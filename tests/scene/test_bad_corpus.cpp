@@ -69,6 +69,7 @@ const BadCase kCases[] = {
   {"unknown_generator.json",      4, "unknown generator 'trefoil'"},
   {"knot_not_coprime.json",       4, "coprime"},
   {"knot_fractional_segments.json", 5, "shapes[0].generate.segments: expected an integer from 3 to 1048576"},
+  {"knot_two_segments.json",      5, "shapes[0].generate.segments: expected an integer from 3 to 1048576"},
   // JSON referring to files
   {"missing_mesh_file.json",      3, "does-not-exist.obj: cannot open"},
   {"mesh_file_is_directory.json", 4, "is a directory"},

@@ -413,6 +413,10 @@ TEST(Gltf, SceneJsonMeshShapeTransformsOverridesAndPicksCamera) {
 
   test::write_file(dir / "bad.json", R"({"shapes": [{"type": "mesh", "file": "t.glb", "camera": 3}]})");
   EXPECT_NE(load_error(dir / "bad.json").find("camera 3 out of range"), std::string::npos);
+  // The extension decides the format whatever its case.
+  fs::copy_file(dir / "t.glb", dir / "T.GLB");
+  test::write_file(dir / "upper.json", R"({"shapes": [{"type": "mesh", "file": "T.GLB"}]})");
+  EXPECT_EQ(load_ok(dir / "upper.json").meshes.size(), 1u);
   // A rotating transform turns the camera's up with it (a quarter turn about z: +y up becomes -x).
   test::write_file(dir / "turned.json", R"({"shapes": [
     {"type": "mesh", "file": "t.glb", "transform": {"rotate": [0, 0, 1, 90]}, "camera": 0}]})");
