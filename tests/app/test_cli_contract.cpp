@@ -318,6 +318,19 @@ TEST(CliContract, TimeLimitWithoutFrames) {
   EXPECT_EQ(img->width, 16);
 }
 
+TEST(CliContract, StdoutNamesTheImageOnlyWhenItsNameWasNotGiven) {
+  // Without --out the image goes to ./ptview.png, which stdout says; with --out stdout stays empty for scripts.
+  TempDir dir;
+  auto named = run_ptview({"--size", "8x8", "--frames", "1", "--out", dir / "x.png"});
+  ASSERT_EQ(named.exit_code, 0) << named.err;
+  EXPECT_EQ(named.out, "");
+  auto unnamed = run_ptview({"--size", "8x8", "--frames", "1"}, 300, "env -C " + test::shell_quote(dir.path.string()));
+  ASSERT_EQ(unnamed.exit_code, 0) << unnamed.err;
+  EXPECT_TRUE(unnamed.out.starts_with("ptview: wrote ptview.png (1 spp, ")) << unnamed.out;
+  EXPECT_EQ(test::count_lines(unnamed.out), 1);
+  EXPECT_TRUE(std::filesystem::is_regular_file(dir.path / "ptview.png"));
+}
+
 TEST(CliContract, ProgressLineOnATerminal) {
   TempDir dir;
   int master = -1;
