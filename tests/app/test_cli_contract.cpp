@@ -130,6 +130,12 @@ TEST(CliContract, ErrorCsvAgainstAReference) {
     EXPECT_EQ(rows[i]["spp"], double(i + 1));
     EXPECT_GT(rows[i]["rmse"], 0.0) << "another seed: the images differ";
     EXPECT_GT(rows[i]["rel_mse"], 0.0);
+    // The estimate needs both halves of the samples: an empty cell at 1 spp, a positive number after.
+    if (i == 0) {
+      EXPECT_EQ(rows[i].count("est_rel_mse"), 0u);
+    } else {
+      EXPECT_GT(rows[i]["est_rel_mse"], 0.0);
+    }
   }
   // The last row is the error of the written image, recomputed here from the two files.
   Result<Image> x = load_image(dir / "x.pfm"), ref = load_image(dir / "ref.pfm");
@@ -329,6 +335,25 @@ TEST(CliContract, StdoutNamesTheImageOnlyWhenItsNameWasNotGiven) {
   EXPECT_TRUE(unnamed.out.starts_with("ptview: wrote ptview.png (1 spp, ")) << unnamed.out;
   EXPECT_EQ(test::count_lines(unnamed.out), 1);
   EXPECT_TRUE(std::filesystem::is_regular_file(dir.path / "ptview.png"));
+}
+
+TEST(CliContract, AnOutputThatFailsAtTheEndExitsTwoWithOneLine) {
+  // /proc exists (the options' checks pass) but takes no new files, so the write fails after the render: the
+  // image, written first, is whole, and the failing output gives exit 2 and one line naming it.
+  if (!std::filesystem::is_directory("/proc/self")) GTEST_SKIP() << "no /proc";
+  const std::pair<const char*, std::string> cases[] = {{"--error-map", "/proc/ptview-test.pfm"},
+                                                        {"--spp-map", "/proc/ptview-test.pfm"},
+                                                        {"--stats-json", "/proc/ptview-test.json"},
+                                                        {"--error-csv", "/proc/ptview-test.csv"}};
+  for (const auto& [option, target] : cases) {
+    SCOPED_TRACE(option);
+    TempDir dir;
+    auto r = run_ptview({"--size", "8x8", "--frames", "2", "--out", dir / "x.pfm", option, target});
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    EXPECT_EQ(test::count_lines(r.err), 1) << r.err;
+    EXPECT_NE(r.err.find(target), std::string::npos) << r.err;
+    EXPECT_TRUE(load_image(dir / "x.pfm").ok());
+  }
 }
 
 TEST(CliContract, ProgressLineOnATerminal) {
