@@ -44,6 +44,16 @@ TEST(JsonLocate, MatchesKeysWrittenWithEscapes) {
   EXPECT_EQ(json_line_of(text, {"a/b"}), 3);
   EXPECT_EQ(json_line_of(text, {"\xF0\x9F\x98\x80"}), 4);  // a surrogate pair
   EXPECT_EQ(json_line_of(text, {"tab\tkey"}), 5);
+  text = "{\n\"two\\nlines\": 1}";
+  EXPECT_EQ(json_line_of(text, {"two\nlines"}), 2);
+}
+
+TEST(JsonLocate, CountsLinesInEveryKindOfWhitespace) {
+  // Tabs are whitespace between tokens; the newlines after a number are counted, not skipped with it.
+  std::string text = "{\n\t\"a\":\t1\n\n ,\t\"b\": true \n,\"c\":\n\tnull}";
+  EXPECT_EQ(json_line_of(text, {"a"}), 2);
+  EXPECT_EQ(json_line_of(text, {"b"}), 4);
+  EXPECT_EQ(json_line_of(text, {"c"}), 6);
 }
 
 TEST(JsonLocate, AKeyGivenTwiceIsFoundWhereTheParserTakesItsValue) {
