@@ -205,7 +205,8 @@ TEST(Mpi, ErrorCsvRowsAtRoundBoundariesMatchOneProcess) {
     std::getline(in, line);
     while (std::getline(in, line)) {
       const size_t c1 = line.find(','), c2 = line.find(',', c1 + 1), c3 = line.find(',', c2 + 1);
-      out[std::stoi(line.substr(0, c1))] = {std::stod(line.substr(c2 + 1, c3 - c2 - 1)), std::stod(line.substr(c3 + 1))};
+      out[std::stoi(line.substr(0, c1))] = {std::stod(line.substr(c2 + 1, c3 - c2 - 1)),
+                                            std::stod(line.substr(c3 + 1))};
     }
     return out;
   };

@@ -147,7 +147,8 @@ TEST(Gltf, QuantizedPositionsAndNormals) {
         << w.x << " " << w.y << " " << w.z;
   ASSERT_FALSE(m.normals.empty());
   int up = 0, down = 0;
-  for (vec3 n : m.normals) up += glm::distance(n, vec3(0, 0, 1)) < 1e-6f, down += glm::distance(n, vec3(0, -1, 0)) < 1e-6f;
+  for (vec3 n : m.normals)
+    up += glm::distance(n, vec3(0, 0, 1)) < 1e-6f, down += glm::distance(n, vec3(0, -1, 0)) < 1e-6f;
   EXPECT_GE(up, 1);
   EXPECT_GE(down, 1);
   // Integer types the extension does not allow are still errors.
@@ -155,7 +156,8 @@ TEST(Gltf, QuantizedPositionsAndNormals) {
   GltfBuilder bad;
   bad.node({{"mesh", bad.mesh(bad.accessor(bad.view(u32, sizeof u32), 0, 5125, 3, "VEC3"))}});
   test::write_file(dir / "bad.gltf", bad.embedded());
-  EXPECT_NE(load_error(dir / "bad.gltf").find("must be VEC3 of float"), std::string::npos) << load_error(dir / "bad.gltf");
+  const std::string e = load_error(dir / "bad.gltf");
+  EXPECT_NE(e.find("must be VEC3 of float"), std::string::npos) << e;
 }
 
 TEST(Gltf, StripsAndFansAreConvertedPointsAndLinesSkipped) {

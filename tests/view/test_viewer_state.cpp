@@ -489,7 +489,8 @@ TEST(SceneLights, TouchingLightsOfTwoMaterialsAreTwoLights) {
   // Two emissive panels side by side, sharing an edge (two vertices), one red and one blue: one light each, so the
   // Lights panel edits each colour on its own.
   TempDir dir;
-  std::ofstream(dir.path / "panels.mtl") << "newmtl red\nKe 4 0 0\nnewmtl blue\nKe 0 0 4\nnewmtl white\nKd 0.5 0.5 0.5\n";
+  std::ofstream(dir.path / "panels.mtl")
+      << "newmtl red\nKe 4 0 0\nnewmtl blue\nKe 0 0 4\nnewmtl white\nKd 0.5 0.5 0.5\n";
   std::ofstream(dir.path / "panels.obj") << "mtllib panels.mtl\n"
                                             "v 0 1 0\nv 1 1 0\nv 1 1 1\nv 0 1 1\nv 2 1 0\nv 2 1 1\n"
                                             "v -1 0 -1\nv 3 0 -1\nv 3 0 2\nv -1 0 2\n"
@@ -584,7 +585,8 @@ TEST(SceneLights, AFarMeshLightIsPlacedInWorldSpace) {
   TempDir dir;
   write_two_triangle_light_obj(dir.path);
   const std::string json = (dir.path / "far.json").string();
-  std::ofstream(json) << R"({"shapes": [{"type": "mesh", "file": "room.obj", "transform": {"translate": [100000, 0, 0]}}]})";
+  std::ofstream(json) << R"({"shapes": [{"type": "mesh", "file": "room.obj",)"
+                          R"( "transform": {"translate": [100000, 0, 0]}}]})";
   ViewerState st;
   open_file(st, json);
   ASSERT_EQ(st.lights.size(), 1u);
