@@ -7,7 +7,8 @@
 ///   an explicit illum 3/5/4/6/7 decides before d/Tr, and transparency before Ks dominance.
 ///   Faces without a material, with a material no library defines, or whose .mtl is missing or unreadable (a
 ///   warning), get diffuse 0.8 grey ("default"). Materials are named as in the MTL; only those some face uses are
-///   added to the scene, and a name already taken by a different material gets a "#2"-style suffix.
+///   added to the scene, and a name already taken by a different material gets a "#2"-style suffix. A name defined
+///   again, in the same library or a later one, keeps its first definition (as tinyobjloader does), with a warning.
 /// Geometry: shading normals from vn where a face gives them for all its corners (faces that do not get their flat
 /// normal when others do); polygons are triangulated keeping their winding (polygon.h); zero-area triangles are
 /// dropped with one warning giving their count and the line of the first.
