@@ -110,6 +110,76 @@ TEST(Session, PassesOfSeveralFramesStopAtTheTarget) {
   EXPECT_EQ(f.image.rgb, direct_render(*rs, p, 4).rgb);
 }
 
+TEST(Session, ATargetOfWholeFramesStopsOnIt) {
+  // 12 spp at 3 a frame: four frames, not a fifth once the target is met exactly.
+  auto rs = std::make_shared<RenderScene>(make_render_scene(test::make_test_cornell()));
+  const RenderParams p = small_params(20, 12, 3);
+  RenderSession session(2);
+  session.set_target_spp(12);
+  const uint64_t epoch = session.restart(rs, p);
+  SessionFrame f = wait_for_frames(session, epoch, 4);
+  std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  session.fetch(f);
+  EXPECT_EQ(f.frames, 4);
+  EXPECT_EQ(f.spp, 12);
+}
+
+TEST(Session, ANewEpochStartsItsTimeAndCountersAtZero) {
+  // The first epoch renders a few heavy frames; the second, one light frame of the same scene. Its time is within
+  // the wall time since its restart, and its counters are those of that frame alone, as a fresh session's.
+  auto rs = std::make_shared<RenderScene>(make_render_scene(test::make_test_cornell()));
+  RenderSession session(2);
+  session.set_target_spp(1);
+  const RenderParams light = small_params(8, 8);
+  RenderCounters fresh;
+  {
+    RenderSession other(2);
+    other.set_target_spp(1);
+    fresh = wait_for_frames(other, other.restart(rs, light), 1).counters;
+  }
+  session.set_target_spp(64);
+  const SessionFrame heavy = wait_for_frames(session, session.restart(rs, small_params(64, 64, 16)), 4);
+  ASSERT_GT(heavy.seconds, 0.0);
+  session.set_target_spp(1);
+  const auto t0 = std::chrono::steady_clock::now();
+  const SessionFrame f = wait_for_frames(session, session.restart(rs, light), 1);
+  const double since_restart = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  EXPECT_LE(f.seconds, since_restart);
+  EXPECT_EQ(f.counters.rays(), fresh.rays());
+  EXPECT_EQ(f.counters.nonfinite_samples, fresh.nonfinite_samples);
+}
+
+TEST(Session, SwitchingMapsOnOrChangingAdaptiveSamplingRepublishesAPausedFrame) {
+  // Nothing renders while paused, yet the heatmaps asked for, and the pixels a new threshold stops, show at once.
+  auto rs = std::make_shared<RenderScene>(make_render_scene(test::make_test_cornell()));
+  const RenderParams p = small_params(16, 16);
+  RenderSession session(2);
+  session.set_target_spp(8);
+  SessionFrame f = wait_for_frames(session, session.restart(rs, p), 8);
+  session.set_paused(true);
+  ASSERT_TRUE(f.rel_error.rgb.empty());
+  EXPECT_EQ(f.converged_fraction, 0.0);
+  session.set_publish_maps(true);
+  SessionFrame g = f;
+  for (int i = 0; i < 5000 && g.rel_error.rgb.empty(); ++i) {
+    session.fetch(g);
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  EXPECT_EQ(g.frames, f.frames);
+  EXPECT_FALSE(g.rel_error.rgb.empty());
+  AdaptiveParams loose;
+  loose.noise_threshold = 1e6;  // every pixel is below it
+  loose.min_spp = 4;
+  session.set_adaptive(loose);
+  SessionFrame h = g;
+  for (int i = 0; i < 5000 && !(h.converged_fraction > 0.0); ++i) {
+    session.fetch(h);
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  EXPECT_EQ(h.frames, f.frames);
+  EXPECT_EQ(h.converged_fraction, 1.0);
+}
+
 TEST(Session, PausedSessionKeepsItsImageAndResumes) {
   auto rs = std::make_shared<RenderScene>(make_render_scene(test::make_test_cornell()));
   RenderParams p;

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstring>
 #include <utility>
 #include <thread>
 
@@ -38,6 +39,20 @@ Film worker_film(vec3 c, int n) {
   for (size_t p = 0; p < f.pixel_count(); ++p)
     for (int i = 0; i < n; ++i) f.add(p, c, uint64_t(i));
   return f;
+}
+
+TEST(Offload, AResultWhoseSizesDisagreeIsRefused) {
+  // A result's sums and counts must cover its width x height: merging reads them per pixel of rank 0's frame.
+  const std::vector<uint8_t> good = encode_offload_result(3, 1, 5, 0.5, worker_film(vec3(1.0f), 5));
+  OffloadResult res;
+  ASSERT_TRUE(decode_offload_result(good, res));
+  EXPECT_EQ(res.width, 8);
+  EXPECT_EQ(res.count.size(), 64u);
+  std::vector<uint8_t> wider = good;
+  const int32_t width = 9;  // after the epoch (8 bytes) and the rank (4): the width
+  std::memcpy(wider.data() + 12, &width, 4);
+  EXPECT_FALSE(decode_offload_result(wider, res));
+  EXPECT_FALSE(decode_offload_result(std::vector<uint8_t>(good.begin(), good.end() - 1), res));  // cut short
 }
 
 TEST(Offload, RankZeroShowsTheExactMergeAndDropsStaleEpochs) {
