@@ -111,9 +111,13 @@ TEST(Offload, RankZeroShowsTheExactMergeAndDropsStaleEpochs) {
     EXPECT_EQ(shown.epoch, next);
     EXPECT_EQ(shown.spp, 3);  // rank 0's samples only
     EXPECT_EQ(root.contributions()[1].spp, 0);
+    // A moved light refits the geometry: it travels again, as after a rebuild.
+    root.post_epoch(next + 1, params, *scene, 1, 1);
+    ASSERT_EQ(channel.posted.size(), 3u);
+    EXPECT_EQ(channel.posted[2].size(), channel.posted[0].size());
   }
   // Destroying the root ends the workers: an empty post.
-  ASSERT_EQ(channel.posted.size(), 3u);
+  ASSERT_EQ(channel.posted.size(), 4u);
   EXPECT_TRUE(channel.posted.back().empty());
 }
 
