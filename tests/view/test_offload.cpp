@@ -124,29 +124,59 @@ TEST(Offload, RankZeroShowsTheExactMergeAndDropsStaleEpochs) {
 /// A worker's side of the wire: rank 0's epoch on the first poll, then the end once the worker has sent a result
 /// of at least `stop_spp` samples.
 struct WorkerChannel final : OffloadChannel {
-  std::vector<uint8_t> epoch;
+  std::vector<std::vector<uint8_t>> epochs;  ///< delivered one a poll; the last one's results end the run
+  uint64_t last_epoch;
   int stop_spp;
   std::vector<std::vector<uint8_t>> sent;
-  bool posted = false;
-  WorkerChannel(std::vector<uint8_t> e, int stop) : epoch(std::move(e)), stop_spp(stop) {}
+  size_t posted = 0;
+  WorkerChannel(std::vector<std::vector<uint8_t>> e, uint64_t last, int stop)
+      : epochs(std::move(e)), last_epoch(last), stop_spp(stop) {}
   void post(std::vector<uint8_t>) override {}
-  std::vector<std::vector<uint8_t>> poll_results() override { return {}; }
-  void close() override {}
   std::vector<std::vector<uint8_t>> poll_posts() override {
-    if (!posted) {
-      posted = true;
-      return {epoch};
-    }
+    if (posted < epochs.size()) return {epochs[posted++]};
     OffloadResult last;
-    if (!sent.empty() && decode_offload_result(sent.back(), last) && last.spp >= stop_spp) return {{}};
+    if (!sent.empty() && decode_offload_result(sent.back(), last) && last.epoch == last_epoch &&
+        last.spp >= stop_spp)
+      return {{}};
     return {};
   }
+  std::vector<std::vector<uint8_t>> poll_results() override { return {}; }
+  void close() override {}
   bool send_result(std::vector<uint8_t> m) override {
     sent.push_back(std::move(m));
     return true;
   }
   void finish() override {}
 };
+
+/// Every result of `epoch` among `sent` is the film of exactly `rank`'s first `spp` samples of every pixel of
+/// `scene`, as one render of that range gives it; their spp grow and reach `stop_spp`.
+void expect_films_of_the_rank_range(const std::vector<std::vector<uint8_t>>& sent, const Scene& scene,
+                                    const RenderParams& params, int rank, uint64_t epoch, int stop_spp) {
+  const RenderScene rs = make_render_scene(scene);
+  Renderer renderer(1);
+  int last_spp = 0;
+  for (const std::vector<uint8_t>& bytes : sent) {
+    OffloadResult res;
+    ASSERT_TRUE(decode_offload_result(bytes, res));
+    if (res.epoch != epoch) continue;  // an earlier epoch's
+    EXPECT_EQ(res.rank, rank);
+    ASSERT_EQ(res.width, params.width);
+    EXPECT_GT(res.spp, last_spp);
+    last_spp = res.spp;
+    Film direct(params.width, params.height);
+    RenderParams p = params;
+    p.spp_per_frame = res.spp;
+    RenderCounters c;
+    std::vector<uint32_t> first(direct.pixel_count(), 0);
+    renderer.render_range(rs, p, direct, nullptr, first.data(), uint32_t(rank) << kRankSampleShift, c);
+    for (size_t i = 0; i < direct.pixel_count(); ++i) {
+      ASSERT_EQ(res.count[i], direct.count[i]) << "pixel " << i << " at " << res.spp << " spp";
+      for (int k = 0; k < 3; ++k) ASSERT_EQ(res.sum[3 * i + size_t(k)], float(direct.sum[3 * i + size_t(k)])) << i;
+    }
+  }
+  EXPECT_GE(last_spp, stop_spp);
+}
 
 TEST(Offload, WorkerPassesGiveTheFilmOfItsSampleRange) {
   // A worker renders several frames to a pass (about 1/30 s; these 16x16 frames take well under a millisecond, so
@@ -166,32 +196,36 @@ TEST(Offload, WorkerPassesGiveTheFilmOfItsSampleRange) {
   }
   ASSERT_GE(root_wire.posted.size(), 1u);
   constexpr int kRank = 2, kStopSpp = 200;
-  WorkerChannel channel(root_wire.posted[0], kStopSpp);
+  WorkerChannel channel({root_wire.posted[0]}, 7, kStopSpp);
   EXPECT_EQ(run_offload_worker(channel, kRank, 2), 0);
   ASSERT_GE(channel.sent.size(), 2u);
-  const RenderScene rs = make_render_scene(*scene);
-  Renderer renderer(1);
-  int last_spp = 0;
-  for (const std::vector<uint8_t>& bytes : channel.sent) {
-    OffloadResult res;
-    ASSERT_TRUE(decode_offload_result(bytes, res));
-    EXPECT_EQ(res.epoch, 7u);
-    EXPECT_EQ(res.rank, kRank);
-    ASSERT_EQ(res.width, 16);
-    EXPECT_GT(res.spp, last_spp);
-    last_spp = res.spp;
-    Film direct(16, 16);
-    RenderParams p = params;
-    p.spp_per_frame = res.spp;
-    RenderCounters c;
-    std::vector<uint32_t> first(direct.pixel_count(), 0);
-    renderer.render_range(rs, p, direct, nullptr, first.data(), uint32_t(kRank) << kRankSampleShift, c);
-    for (size_t i = 0; i < direct.pixel_count(); ++i) {
-      ASSERT_EQ(res.count[i], direct.count[i]) << "pixel " << i << " at " << res.spp << " spp";
-      for (int k = 0; k < 3; ++k) ASSERT_EQ(res.sum[3 * i + size_t(k)], float(direct.sum[3 * i + size_t(k)])) << i;
-    }
+  expect_films_of_the_rank_range(channel.sent, *scene, params, kRank, 7, kStopSpp);
+}
+
+TEST(Offload, AWorkerRebuildsItsTreeForANewScene) {
+  // Two epochs, the second after a load (a rebuild): the worker renders the second scene's geometry, not the
+  // first's tree with the second's materials and camera.
+  Result<Scene> first = load_builtin_scene("cornell");
+  ASSERT_TRUE(first.ok());
+  Scene moved = *first;
+  const vec3 d(0.3f, -0.2f, 0.1f);
+  for (Quad& q : moved.quads) q.corner += d;
+  for (Sphere& s : moved.spheres) s.center += d;
+  for (Mesh& m : moved.meshes) m.origin += dvec3(d);
+  RenderParams params;
+  params.width = params.height = 16;
+  params.max_depth = 4;
+  Wire root_wire;
+  {
+    OffloadRoot root(std::make_unique<FakeChannel>(&root_wire));
+    root.set_ranks(2);
+    root.post_epoch(7, params, *first, 1, 0);
+    root.post_epoch(8, params, moved, 2, 0);
   }
-  EXPECT_GE(last_spp, kStopSpp);
+  ASSERT_GE(root_wire.posted.size(), 2u);
+  WorkerChannel channel({root_wire.posted[0], root_wire.posted[1]}, 8, 16);
+  EXPECT_EQ(run_offload_worker(channel, 1, 2), 0);
+  expect_films_of_the_rank_range(channel.sent, moved, params, 1, 8, 16);
 }
 
 }  // namespace
