@@ -83,6 +83,9 @@ TEST(Offload, RankZeroShowsTheExactMergeAndDropsStaleEpochs) {
     // The worker's result, then one of the epoch before (rendered before the edit, arriving after): dropped.
     channel.results.push_back(encode_offload_result(epoch, 1, 5, 0.5, worker_film(vec3(1.0f, 2.0f, 3.0f), 5)));
     channel.results.push_back(encode_offload_result(epoch - 1, 1, 9, 0.5, worker_film(vec3(50.0f), 9)));
+    // Ranks that cannot send: rank 0 itself and one past the ranks set. Ignored.
+    channel.results.push_back(encode_offload_result(epoch, 0, 9, 0.5, worker_film(vec3(50.0f), 9)));
+    channel.results.push_back(encode_offload_result(epoch, 2, 9, 0.5, worker_film(vec3(50.0f), 9)));
     SessionFrame shown;
     ASSERT_TRUE(root.fetch(session, shown));
     EXPECT_EQ(shown.spp, 3 + 5);
