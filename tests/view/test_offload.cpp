@@ -215,6 +215,20 @@ TEST(Offload, AWorkerRebuildsItsTreeForANewScene) {
   for (Quad& q : moved.quads) q.corner += d;
   for (Sphere& s : moved.spheres) s.center += d;
   for (Mesh& m : moved.meshes) m.origin += dvec3(d);
+  // And a card in front of the camera whose shading normals lean away from its flat normal: they travel too.
+  ASSERT_TRUE(moved.camera.has_value());
+  const Camera& cam = *moved.camera;
+  const vec3 forward = glm::normalize(cam.target - cam.eye), right = glm::normalize(glm::cross(forward, cam.up));
+  const vec3 up = glm::cross(right, forward), center = cam.eye + 2.0f * forward;
+  Mesh card;
+  card.name = "card";
+  card.positions = {center - 0.3f * right - 0.3f * up, center + 0.3f * right - 0.3f * up,
+                    center + 0.3f * right + 0.3f * up, center - 0.3f * right + 0.3f * up};
+  card.indices = {uvec3(0, 1, 2), uvec3(0, 2, 3)};
+  card.normals = {glm::normalize(-forward + right), glm::normalize(-forward - up)};
+  card.normal_indices = {uvec3(0, 0, 1), uvec3(0, 1, 1)};
+  card.materials = {0, 0};
+  moved.meshes.push_back(card);
   RenderParams params;
   params.width = params.height = 16;
   params.max_depth = 4;
