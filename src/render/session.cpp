@@ -101,6 +101,7 @@ void RenderSession::drive(std::stop_token stop) {
     published_.width = w;
     published_.height = h;
     published_.seconds = seconds;
+    published_.threads = renderer->thread_count();
     published_.counters = counters;
     published_.image = std::move(image);
     published_.est_rel_mse = preview ? 0.0 : est_rel_mse(film.film());

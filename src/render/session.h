@@ -25,6 +25,7 @@ struct SessionFrame {
   int spp = 0;
   int width = 0, height = 0;
   double seconds = 0.0;     ///< render time in this epoch
+  int threads = 0;          ///< the worker threads rendering this epoch (RenderParams::threads, 0 made concrete)
   RenderCounters counters;  ///< of this epoch
   Image image;              ///< the current mean
   // Convergence (render/convergence.h, render/adaptive.h); spp above is the maximum over pixels.
@@ -68,6 +69,7 @@ class RenderSession {
   /// milliseconds even when a full frame takes much longer (1: off).
   void set_preview_divisor(int divisor) { preview_div_ = std::max(1, divisor); }
   uint64_t epoch() const { return epoch_.load(); }
+  /// The threads the session was made with; an epoch renders with its RenderParams::threads (SessionFrame::threads).
   int thread_count() const { return thread_count_; }
 
   /// Copies the latest published frame into `out` if it is newer than `out` (by epoch and frame count).

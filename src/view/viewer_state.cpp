@@ -322,7 +322,7 @@ std::string ViewerState::stats_json() const {
   run.seconds = frame.seconds;
   run.load_ms = load_ms;
   run.counters = frame.counters;
-  run.threads = session ? session->thread_count() : 0;
+  run.threads = frame.threads > 0 ? frame.threads : session ? session->thread_count() : 0;
   run.epoch = frame.epoch;
   run.convergence.est_rel_mse = frame.preview ? std::numeric_limits<double>::quiet_NaN() : frame.est_rel_mse;
   run.convergence.converged_fraction = frame.converged_fraction;

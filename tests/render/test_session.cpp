@@ -149,6 +149,19 @@ TEST(Session, ANewEpochStartsItsTimeAndCountersAtZero) {
   EXPECT_EQ(f.counters.nonfinite_samples, fresh.nonfinite_samples);
 }
 
+TEST(Session, AFrameNamesTheThreadsThatRenderedIt) {
+  // The viewer's thread slider restarts with another RenderParams::threads: the next epoch renders with that many
+  // workers, and its frames say so (the Stats panel and the stats JSON show it).
+  auto rs = std::make_shared<RenderScene>(make_render_scene(test::make_test_cornell()));
+  RenderSession session(2);
+  session.set_target_spp(1);
+  RenderParams p = small_params(8, 8);
+  p.threads = 1;
+  EXPECT_EQ(wait_for_frames(session, session.restart(rs, p), 1).threads, 1);
+  p.threads = 3;
+  EXPECT_EQ(wait_for_frames(session, session.restart(rs, p), 1).threads, 3);
+}
+
 TEST(Session, SwitchingMapsOnOrChangingAdaptiveSamplingRepublishesAPausedFrame) {
   // Nothing renders while paused, yet the heatmaps asked for, and the pixels a new threshold stops, show at once.
   auto rs = std::make_shared<RenderScene>(make_render_scene(test::make_test_cornell()));
