@@ -99,29 +99,18 @@ Image direct_render(const RenderScene& rs, const RenderParams& p, int frames) {
 TEST(Session, PassesOfSeveralFramesStopAtTheTarget) {
   auto rs = std::make_shared<RenderScene>(make_render_scene(test::make_test_cornell()));
   const RenderParams p = small_params(20, 12, 3);
-  RenderSession session(2);
-  session.set_target_spp(10);
-  const uint64_t epoch = session.restart(rs, p);
-  SessionFrame f = wait_for_frames(session, epoch, 4);
-  std::this_thread::sleep_for(std::chrono::milliseconds(50));  // it has stopped: nothing newer comes
-  session.fetch(f);
-  EXPECT_EQ(f.frames, 4);
-  EXPECT_EQ(f.spp, 12);
-  EXPECT_EQ(f.image.rgb, direct_render(*rs, p, 4).rgb);
-}
-
-TEST(Session, ATargetOfWholeFramesStopsOnIt) {
-  // 12 spp at 3 a frame: four frames, not a fifth once the target is met exactly.
-  auto rs = std::make_shared<RenderScene>(make_render_scene(test::make_test_cornell()));
-  const RenderParams p = small_params(20, 12, 3);
-  RenderSession session(2);
-  session.set_target_spp(12);
-  const uint64_t epoch = session.restart(rs, p);
-  SessionFrame f = wait_for_frames(session, epoch, 4);
-  std::this_thread::sleep_for(std::chrono::milliseconds(50));
-  session.fetch(f);
-  EXPECT_EQ(f.frames, 4);
-  EXPECT_EQ(f.spp, 12);
+  for (int target : {10, 12}) {  // 12: met exactly by whole frames, and no fifth frame after it
+    SCOPED_TRACE(target);
+    RenderSession session(2);
+    session.set_target_spp(target);
+    const uint64_t epoch = session.restart(rs, p);
+    SessionFrame f = wait_for_frames(session, epoch, 4);
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));  // it has stopped: nothing newer comes
+    session.fetch(f);
+    EXPECT_EQ(f.frames, 4);
+    EXPECT_EQ(f.spp, 12);
+    EXPECT_EQ(f.image.rgb, direct_render(*rs, p, 4).rgb);
+  }
 }
 
 TEST(Session, ANewEpochStartsItsTimeAndCountersAtZero) {

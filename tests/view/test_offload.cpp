@@ -152,6 +152,28 @@ struct WorkerChannel final : OffloadChannel {
   void finish() override {}
 };
 
+/// 16x16 pixels, 4 bounces: frames of well under a millisecond.
+RenderParams worker_params() {
+  RenderParams p;
+  p.width = p.height = 16;
+  p.max_depth = 4;
+  return p;
+}
+
+/// What rank 0 posts for `scenes` loaded one after the other: epochs 7, 8, ..., each a rebuild.
+std::vector<std::vector<uint8_t>> posted_epochs(int ranks, const RenderParams& params,
+                                                const std::vector<const Scene*>& scenes) {
+  Wire wire;
+  {
+    OffloadRoot root(std::make_unique<FakeChannel>(&wire));
+    root.set_ranks(ranks);
+    for (size_t i = 0; i < scenes.size(); ++i) root.post_epoch(7 + i, params, *scenes[i], int(i) + 1, 0);
+  }
+  EXPECT_EQ(wire.posted.size(), scenes.size() + 1);
+  wire.posted.pop_back();  // the end of the run, posted when the root goes
+  return wire.posted;
+}
+
 /// Every result of `epoch` among `sent` is the film of exactly `rank`'s first `spp` samples of every pixel of
 /// `scene`, as one render of that range gives it; their spp grow and reach `stop_spp`.
 void expect_films_of_the_rank_range(const std::vector<std::vector<uint8_t>>& sent, const Scene& scene,
@@ -188,18 +210,9 @@ TEST(Offload, WorkerPassesGiveTheFilmOfItsSampleRange) {
   // rank's range.
   Result<Scene> scene = load_builtin_scene("cornell");
   ASSERT_TRUE(scene.ok());
-  RenderParams params;
-  params.width = params.height = 16;
-  params.max_depth = 4;
-  Wire root_wire;
-  {
-    OffloadRoot root(std::make_unique<FakeChannel>(&root_wire));
-    root.set_ranks(3);
-    root.post_epoch(7, params, *scene, 1, 0);
-  }
-  ASSERT_GE(root_wire.posted.size(), 1u);
+  const RenderParams params = worker_params();
   constexpr int kRank = 2, kStopSpp = 200;
-  WorkerChannel channel({root_wire.posted[0]}, 7, kStopSpp);
+  WorkerChannel channel(posted_epochs(3, params, {&*scene}), 7, kStopSpp);
   EXPECT_EQ(run_offload_worker(channel, kRank, 2), 0);
   ASSERT_GE(channel.sent.size(), 2u);
   expect_films_of_the_rank_range(channel.sent, *scene, params, kRank, 7, kStopSpp);
@@ -229,18 +242,8 @@ TEST(Offload, AWorkerRebuildsItsTreeForANewScene) {
   card.normal_indices = {uvec3(0, 0, 1), uvec3(0, 1, 1)};
   card.materials = {0, 0};
   moved.meshes.push_back(card);
-  RenderParams params;
-  params.width = params.height = 16;
-  params.max_depth = 4;
-  Wire root_wire;
-  {
-    OffloadRoot root(std::make_unique<FakeChannel>(&root_wire));
-    root.set_ranks(2);
-    root.post_epoch(7, params, *first, 1, 0);
-    root.post_epoch(8, params, moved, 2, 0);
-  }
-  ASSERT_GE(root_wire.posted.size(), 2u);
-  WorkerChannel channel({root_wire.posted[0], root_wire.posted[1]}, 8, 16);
+  const RenderParams params = worker_params();
+  WorkerChannel channel(posted_epochs(2, params, {&*first, &moved}), 8, 16);
   EXPECT_EQ(run_offload_worker(channel, 1, 2), 0);
   expect_films_of_the_rank_range(channel.sent, moved, params, 1, 8, 16);
 }
