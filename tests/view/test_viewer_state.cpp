@@ -3,6 +3,7 @@
 // model (which lights, their placement, resizing), and parse_script on every malformed form.
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <limits>
@@ -725,6 +726,9 @@ TEST(Script, EveryMalformedFormIsRejectedWithItsLine) {
       {"noise-threshold -0.1", "from 0 (off) to 1"},
       {"noise-threshold x", "is not a number"},
       {"noise-threshold 0.1 2.5", "the minimum spp must be an integer"},
+      {"noise-threshold 0.1 16777217", "the minimum spp must be an integer"},
+      {"wait-frames 1e10", "not a non-negative integer"},
+      {"set-material diffuse albedo=1,2,3,", "not a list of numbers"},
   };
   for (const Case& c : cases) {
     auto r = parse_script(std::string("wait-frames 1  # fine\n") + c.line + "\n", "s.txt");
@@ -732,6 +736,77 @@ TEST(Script, EveryMalformedFormIsRejectedWithItsLine) {
     EXPECT_EQ(r.error().rfind("s.txt:2: ", 0), 0u) << r.error();
     EXPECT_NE(r.error().find(c.reason), std::string::npos) << c.line << " -> " << r.error();
   }
+}
+
+/// Runs `text` as a --script on `st` the way the viewer's loop does (a finished load, the script's step, the
+/// compare's time slices, the newest frames), without a window. Returns the run once it is done, or after 60 s.
+ScriptRun run_script(ViewerState& st, const std::string& text) {
+  Result<std::vector<ScriptCommand>> commands = parse_script(text, "s.txt");
+  EXPECT_TRUE(commands.ok()) << commands.error();
+  ScriptRun run{"s.txt", commands.ok() ? *commands : std::vector<ScriptCommand>{}};
+  const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  while (!run.done() && !run.quit && std::chrono::steady_clock::now() < end) {
+    st.poll_load();
+    run.step(st);
+    st.tick_compare();
+    if (st.session->fetch(st.frame)) st.note_frame();
+    if (st.session_b && st.session_b->fetch(st.frame_b)) st.note_frame_b();
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  EXPECT_TRUE(run.done()) << "timed out at command " << run.next;
+  return run;
+}
+
+TEST(Script, CommandsDoWhatTheReadmeSays) {
+  ViewerState st;
+  st.init(builtin("cornell"), small_params(), {}, 1);
+  // A wait restarts nothing: the check after it passes however the command before it restarted.
+  EXPECT_EQ(run_script(st, "orbit 10 0\nwait-frames 1\nexpect-no-restart\n").failures, 0);
+  // set-material sets the picked material's type.
+  EXPECT_EQ(run_script(st, "pick 16 12\nset-material specular albedo=0.5,0.5,0.5\nwait-frames 1\n").failures, 0);
+  ASSERT_GE(st.selected_material, 0);
+  EXPECT_EQ(st.scene.materials[size_t(st.selected_material)].type, MaterialType::specular);
+  // What cannot be done is a counted failure: here a pick outside the image.
+  EXPECT_EQ(run_script(st, "pick 32 0\n").failures, 1);
+}
+
+TEST(Script, ImpossibleCommandsAreCountedFailures) {
+  {
+    ViewerState st;  // nothing picked yet: set-material changes nothing
+    st.init(builtin("cornell"), small_params(), {}, 1);
+    const std::vector<Material> before = st.scene.materials;
+    EXPECT_EQ(run_script(st, "set-material specular\n").failures, 1);
+    EXPECT_EQ(st.scene.materials.size(), before.size());
+    for (size_t m = 0; m < before.size(); ++m) EXPECT_EQ(st.scene.materials[m].type, before[m].type) << m;
+  }
+  Scene s;
+  Material floor, lamp;
+  floor.name = "floor";
+  lamp.name = "lamp";
+  lamp.emission = vec3(2.0f);
+  s.materials = {floor, lamp};
+  s.quads.push_back({vec3(-2, 0, 2), vec3(4, 0, 0), vec3(0, 0, -4), 0});
+  s.spheres.push_back({{vec3(0.5f, 1.5f, -0.25f), 0.2f}, 1});
+  ViewerState st;
+  st.init(std::move(s), small_params(), {}, 1);
+  EXPECT_EQ(run_script(st, "light-size 1 1\n").failures, 1);  // a sphere has no W x H
+}
+
+TEST(Script, WaitsCoverBothSidesOfACompareAndALoadInFlight) {
+  TempDir dir;
+  ViewerState st;
+  st.init(builtin("cornell"), small_params(), {}, 1);
+  // stop-at-spp and wait-frames act on both sides of a compare.
+  EXPECT_EQ(run_script(st, "compare sampler=independent\nstop-at-spp 2\nwait-frames 2\nwait-ms 100\n").failures, 0);
+  ASSERT_TRUE(st.session_b);
+  st.session_b->fetch(st.frame_b);
+  EXPECT_EQ(st.frame_b.frames, 2);
+  EXPECT_EQ(st.frame_b.spp, 2);
+  // wait-frames after a load waits for the loaded scene's frames, not the old scene's.
+  const std::string room = write_two_triangle_light_obj(dir.path);
+  EXPECT_EQ(run_script(st, "compare off\nload " + room + "\nwait-frames 1\n").failures, 0);
+  EXPECT_EQ(st.scene.source, room);
+  EXPECT_GE(st.frame.frames, 1);
 }
 
 TEST(Script, EveryCommandOfTheTableParsesItsWellFormedUse) {
