@@ -797,8 +797,11 @@ TEST(Script, WaitsCoverBothSidesOfACompareAndALoadInFlight) {
   ViewerState st;
   st.init(builtin("cornell"), small_params(), {}, 1);
   // stop-at-spp and wait-frames act on both sides of a compare.
-  EXPECT_EQ(run_script(st, "compare sampler=independent\nstop-at-spp 2\nwait-frames 2\nwait-ms 100\n").failures, 0);
+  EXPECT_EQ(run_script(st, "compare sampler=independent\nstop-at-spp 2\nwait-frames 2\n").failures, 0);
   ASSERT_TRUE(st.session_b);
+  EXPECT_EQ(st.frame_b.epoch, st.session_b->epoch());
+  EXPECT_GE(st.frame_b.frames, 2);
+  EXPECT_EQ(run_script(st, "wait-ms 100\n").failures, 0);
   st.session_b->fetch(st.frame_b);
   EXPECT_EQ(st.frame_b.frames, 2);
   EXPECT_EQ(st.frame_b.spp, 2);
