@@ -625,8 +625,8 @@ TEST(SceneLights, EveryLightOfEveryBuiltinSceneCanBeResizedAndScaled) {
   }
 }
 
-TEST(SceneLights, ASphereLightMovesAndScalesAboutItsCenter) {
-  // No built-in scene has a sphere light: the test above never scales one.
+/// A 4 x 4 floor under a sphere light of radius 0.2 at (0.5, 1.5, -0.25).
+Scene floor_under_a_sphere_light() {
   Scene s;
   Material floor, lamp;
   floor.name = "floor";
@@ -635,6 +635,12 @@ TEST(SceneLights, ASphereLightMovesAndScalesAboutItsCenter) {
   s.materials = {floor, lamp};
   s.quads.push_back({vec3(-2, 0, 2), vec3(4, 0, 0), vec3(0, 0, -4), 0});
   s.spheres.push_back({{vec3(0.5f, 1.5f, -0.25f), 0.2f}, 1});
+  return s;
+}
+
+TEST(SceneLights, ASphereLightMovesAndScalesAboutItsCenter) {
+  // No built-in scene has a sphere light: the test above never scales one.
+  Scene s = floor_under_a_sphere_light();
   ViewerState st;
   st.init(std::move(s), small_params(), {}, -1);
   ASSERT_EQ(st.lights.size(), 1u);
@@ -779,14 +785,7 @@ TEST(Script, ImpossibleCommandsAreCountedFailures) {
     EXPECT_EQ(st.scene.materials.size(), before.size());
     for (size_t m = 0; m < before.size(); ++m) EXPECT_EQ(st.scene.materials[m].type, before[m].type) << m;
   }
-  Scene s;
-  Material floor, lamp;
-  floor.name = "floor";
-  lamp.name = "lamp";
-  lamp.emission = vec3(2.0f);
-  s.materials = {floor, lamp};
-  s.quads.push_back({vec3(-2, 0, 2), vec3(4, 0, 0), vec3(0, 0, -4), 0});
-  s.spheres.push_back({{vec3(0.5f, 1.5f, -0.25f), 0.2f}, 1});
+  Scene s = floor_under_a_sphere_light();
   ViewerState st;
   st.init(std::move(s), small_params(), {}, 1);
   EXPECT_EQ(run_script(st, "light-size 1 1\n").failures, 1);  // a sphere has no W x H
