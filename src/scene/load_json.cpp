@@ -284,7 +284,11 @@ class SceneBuilder {
         obj = std::move(r->geometry);
         add_gltf_cameras(n, r->cameras, t);
       } else {
+        // Any other extension is read as OBJ too (an OBJ saved as .txt); when that fails, the error says so, since
+        // "no faces" alone would puzzle whoever gave a .ply or an .fbx.
         Result<ObjData> r = read_obj(p.lexically_normal().string(), override_material < 0);
+        if (!r && ext != ".obj")
+          file->fail(r.error() + " (read as OBJ: a mesh file is an .obj, .gltf or .glb, by its extension)");
         if (!r) file->fail(r.error());
         obj = std::move(*r);
       }

@@ -73,6 +73,7 @@ const BadCase kCases[] = {
   // JSON referring to files
   {"missing_mesh_file.json",      3, "does-not-exist.obj: cannot open"},
   {"mesh_file_is_directory.json", 4, "is a directory"},
+  {"mesh_unsupported_type.json",  4, "triangle.ply: no triangles (the file has no faces) (read as OBJ: a mesh file is an .obj, .gltf or .glb, by its extension)"},
   {"mesh_with_bad_obj.json",      4, "index_out_of_range.obj.txt:4: face vertex index 9 out of range"},
   // OBJ
   {"empty.obj",                   0, "no triangles"},
