@@ -312,7 +312,7 @@ void stats_panel(const ViewerState& st) {
   double mrays = f.seconds > 0 ? double(f.counters.rays()) / f.seconds * 1e-6 : 0.0;
   ImGui::Text("%d x %d%s", f.width, f.height, f.preview ? "  (preview)" : "");
   ImGui::Text("spp %d   %.1f spp/s   %.2f Mrays/s", f.spp, sps, mrays);
-  ImGui::Text("elapsed %.1f s   threads %d", f.seconds, f.threads > 0 ? f.threads : st.session->thread_count());
+  ImGui::Text("elapsed %.1f s   threads %d", f.seconds, st.render_threads());
   if (st.offload)
     for (const RankContribution& c : st.offload->contributions())
       ImGui::Text("rank %d: spp %d   %.1f spp/s", c.rank, c.spp, c.spp_per_s());

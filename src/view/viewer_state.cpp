@@ -314,6 +314,10 @@ void ViewerState::note_frame() {
 
 
 
+int ViewerState::render_threads() const {
+  return frame.threads > 0 ? frame.threads : session ? session->thread_count() : 0;
+}
+
 std::string ViewerState::stats_json() const {
   double elapsed = std::chrono::duration<double>(Clock::now() - start_time).count();
   RunSummary run;
@@ -322,7 +326,7 @@ std::string ViewerState::stats_json() const {
   run.seconds = frame.seconds;
   run.load_ms = load_ms;
   run.counters = frame.counters;
-  run.threads = frame.threads > 0 ? frame.threads : session ? session->thread_count() : 0;
+  run.threads = render_threads();
   run.epoch = frame.epoch;
   run.convergence.est_rel_mse = frame.preview ? std::numeric_limits<double>::quiet_NaN() : frame.est_rel_mse;
   run.convergence.converged_fraction = frame.converged_fraction;

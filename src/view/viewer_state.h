@@ -129,6 +129,9 @@ struct ViewerState {
   /// Writes the scene as shown (camera, edited materials and lights, meshes) as a version-1 JSON, atomically.
   std::optional<Error> save_scene(const std::string& path);
   std::string stats_json() const;
+  /// The threads that rendered the frame shown (the session's count before its first frame; 0 without a session):
+  /// what the Stats panel and stats_json report.
+  int render_threads() const;
 
  private:
   void restart();

@@ -118,7 +118,6 @@ TEST(Session, ANewEpochStartsItsTimeAndCountersAtZero) {
   // the wall time since its restart, and its counters are those of that frame alone, as a fresh session's.
   auto rs = std::make_shared<RenderScene>(make_render_scene(test::make_test_cornell()));
   RenderSession session(2);
-  session.set_target_spp(1);
   const RenderParams light = small_params(8, 8);
   RenderCounters fresh;
   {

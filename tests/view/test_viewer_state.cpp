@@ -749,7 +749,9 @@ TEST(Script, EveryMalformedFormIsRejectedWithItsLine) {
 ScriptRun run_script(ViewerState& st, const std::string& text) {
   Result<std::vector<ScriptCommand>> commands = parse_script(text, "s.txt");
   EXPECT_TRUE(commands.ok()) << commands.error();
-  ScriptRun run{"s.txt", commands.ok() ? *commands : std::vector<ScriptCommand>{}};
+  ScriptRun run;
+  run.file = "s.txt";
+  if (commands.ok()) run.commands = *commands;
   const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(60);
   while (!run.done() && !run.quit && std::chrono::steady_clock::now() < end) {
     st.poll_load();
