@@ -369,5 +369,44 @@ TEST(Bvh8, NonFiniteVerticesNeverHitAndLeaveTheRestIntact) {
   EXPECT_GT(hits, 200);
 }
 
+/// The primitives the wide tree's leaves reference (valid lanes), in any order.
+void collect_prims(const Bvh8& w, ChildRef ref, std::vector<uint32_t>& out) {
+  const Bvh8Node& node = w.node(ref);
+  for (int s = 0; s < 8; ++s) {
+    const ChildRef c = node.child[s];
+    if (c == kEmptyChild) continue;
+    if (!is_leaf_ref(c)) {
+      collect_prims(w, c, out);
+      continue;
+    }
+    for (uint32_t k = 0; k < leaf_count(c); ++k)
+      for (uint32_t prim : w.block(leaf_first(c) + k * kBlockUnits).prim)
+        if (prim != kInvalidPrim) out.push_back(prim);
+  }
+}
+
+TEST(Bvh8, NodesOfOverflowingAreaAreNeverLeavesTooBig) {
+  // Triangles 1e16 across scattered over [-1e19, 1e19]^3: a box spanning 2e19 has a half area past float's range,
+  // so every node above the leaves costs infinity as a leaf and as a node alike. The collapse must still never make
+  // a leaf of more than kMaxLeafBlocks blocks (a leaf reference holds 2 bits of count: a bigger one would lose its
+  // other triangles): every triangle stays in the tree. (Rays cannot check it here: the watertight triangle test's
+  // products overflow float for triangles above about 1e12 across, and 1e19 is already 1e12 per float step.)
+  Pcg32 rng(11, 12);
+  std::vector<vec3> tv;
+  const uint32_t n = 3000;
+  for (uint32_t i = 0; i < n; ++i) {
+    const vec3 c = (2.0f * rand3(rng) - 1.0f) * 1e19f;
+    for (int k = 0; k < 3; ++k) tv.push_back(c + (rand3(rng) - 0.5f) * 1e16f);
+  }
+  const Bvh bin = build_triangle_bvh(tv, triangle_build_options({}));
+  ASSERT_FALSE(std::isfinite(bin.nodes[0].bounds.half_area()));
+  const Bvh8 w = make_bvh8(bin, tv, 2);
+  std::vector<uint32_t> prims;
+  collect_prims(w, 0, prims);
+  std::sort(prims.begin(), prims.end());
+  ASSERT_EQ(prims.size(), n);
+  for (uint32_t i = 0; i < n; ++i) ASSERT_EQ(prims[i], i);
+}
+
 }  // namespace
 }  // namespace pt

@@ -6,23 +6,12 @@
 #include <vector>
 
 #include "core/sobol.h"
+#include "net_check.h"
 
 namespace pt {
 namespace {
 
-/// True if each elementary interval [i/2^a, (i+1)/2^a) x [j/2^b, (j+1)/2^b), a + b = k, holds exactly one point.
-bool is_net(const std::vector<vec2>& pts, int k) {
-  for (int a = 0; a <= k; ++a) {
-    int b = k - a;
-    std::vector<int> count(size_t(1) << k, 0);
-    for (vec2 p : pts) {
-      int i = int(p.x * float(1 << a)), j = int(p.y * float(1 << b));
-      if (i < 0 || i >= (1 << a) || j < 0 || j >= (1 << b)) return false;
-      if (++count[size_t(i) * (size_t(1) << b) + size_t(j)] > 1) return false;
-    }
-  }
-  return true;
-}
+using test::is_net;
 
 TEST(Sobol, EveryPowerOfTwoPrefixIsANet) {
   for (uint32_t seed : {0u, 1u, 12345u, 0xdeadbeefu})
