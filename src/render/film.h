@@ -89,14 +89,6 @@ struct Film {
     f(std::span<uint32_t>(half_count));
     f(std::span<uint32_t>(taken));
   }
-  template <class F>
-  void for_each_buffer(F&& f) const {
-    f(std::span<const double>(sum));
-    f(std::span<const uint32_t>(count));
-    f(std::span<const double>(half_sum));
-    f(std::span<const uint32_t>(half_count));
-    f(std::span<const uint32_t>(taken));
-  }
 };
 
 }  // namespace pt

@@ -17,6 +17,14 @@ inline Material diffuse(vec3 albedo, vec3 emission = vec3(0.0f)) {
   return m;
 }
 
+inline Material mirror(vec3 albedo) {
+  Material m;
+  m.name = "mirror";
+  m.type = MaterialType::specular;
+  m.albedo = albedo;
+  return m;
+}
+
 /// Axis-aligned box [lo, hi] made of 6 quads whose front faces point inward (or outward).
 inline void add_box(Scene& s, vec3 lo, vec3 hi, uint32_t material, bool inward) {
   vec3 d = hi - lo;

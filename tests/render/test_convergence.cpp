@@ -65,6 +65,19 @@ TEST(Estimator, UnknownUntilBothHalvesHoldSamples) {
   EXPECT_EQ(est_rel_mse(film), 0.0);
 }
 
+TEST(Estimator, EstRelMseIsTheMeanOverPixelsAndChannelsOfTheReadmesTerm) {
+  // Two pixels, each the other's only neighbour. Pixel 0: A = (1, 2, 3), B = (3, 2, 1), so Var(mean) = (A - B)^2 / 4
+  // = (1, 0, 1) and its scale max(min(A, B), neighbour) = (4, 4, 4); pixel 1: A = B = 4, no variance. The README's
+  // figure is the mean of Var(mean) / (v^2 + 0.01) over the 2 pixels and 3 channels.
+  Film film(2, 1);
+  film.add(0, vec3(1, 2, 3), 0);
+  film.add(0, vec3(3, 2, 1), 1);
+  film.add(1, vec3(4.0f), 0);
+  film.add(1, vec3(4.0f), 1);
+  const double term = 1.0 / (16.0 + 0.01);
+  EXPECT_NEAR(est_rel_mse(film), (term + 0.0 + term + 0.0) / 6.0, 1e-12);
+}
+
 /// A 3x3 film: every neighbour of the centre gets two samples of value `neighbour` (one per half); the centre gets
 /// `a` in its A half and `b` in its B half.
 Film centre_film(float neighbour, float a, float b) {
@@ -256,8 +269,9 @@ TEST(Adaptive, RaisingTheMinimumResumesPixelsStoppedBelowIt) {
     ASSERT_TRUE(f.film().taken[px] >= 64 || f.active()[px]) << "pixel " << px << " stays stopped below the minimum";
   std::vector<uint32_t> before = f.film().taken;
   run.frame();
-  for (size_t px = 0; px < before.size(); ++px)
+  for (size_t px = 0; px < before.size(); ++px) {
     if (before[px] < 64) ASSERT_EQ(f.film().taken[px], before[px] + 4) << "pixel " << px;
+  }
 }
 
 RenderParams adaptive_params() {
@@ -339,6 +353,9 @@ TEST(Adaptive, AutomaticMinimumFollowsCycles) {
   EXPECT_EQ(auto_min_spp(0.01), 64);
   EXPECT_EQ(auto_min_spp(0.001), 128);
   EXPECT_EQ(auto_min_spp(1.0), 16);
+  // ceil(16 / 0.3^0.3) = 23, rounded up to an even number (README: both halves get as many samples at the check).
+  EXPECT_EQ(auto_min_spp(0.3), 24);
+  for (double t = 0.001; t <= 1.0; t *= 1.1) EXPECT_EQ(auto_min_spp(t) % 2, 0) << t;
 }
 
 // A reducer sums every buffer of films rendered from disjoint frames: the result is the film of all frames.

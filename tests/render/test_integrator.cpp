@@ -52,6 +52,15 @@ const IntegratorKind kIntegrators[] = {IntegratorKind::mis, IntegratorKind::nee,
                                       IntegratorKind::automatic};
 const LightSampling kModes[] = {LightSampling::area, LightSampling::solid_angle, LightSampling::automatic};
 
+/// The parameters of one strategy pair with the given depth, the rest default.
+RenderParams strategy(IntegratorKind k, LightSampling mode, int max_depth) {
+  RenderParams params;
+  params.integrator = k;
+  params.light_sampling = mode;
+  params.max_depth = max_depth;
+  return params;
+}
+
 std::string config_name(IntegratorKind k, LightSampling m) {
   return std::string(name_of(k)) + "/" + name_of(m);
 }
@@ -65,10 +74,7 @@ TEST(Furnace, WhiteObjectsInUniformBackgroundAreInvisible) {
   Scene s;
   s.background = vec3(1.0f);
   uint32_t white = add_material(s, diffuse(vec3(1.0f)));
-  Material mirror;
-  mirror.type = MaterialType::specular;
-  mirror.albedo = vec3(1.0f);
-  uint32_t m = add_material(s, mirror);
+  uint32_t m = add_material(s, test::mirror(vec3(1.0f)));
   Material glass;
   glass.type = MaterialType::glass;
   glass.ior = 1.5f;
@@ -134,10 +140,7 @@ TEST(Furnace, ClosedEmissiveRoomConvergesToGeometricSeries) {
   ASSERT_EQ(rs.lights.lights.size(), 6u);
   for (IntegratorKind k : kIntegrators)
     for (LightSampling mode : kModes) {
-      RenderParams params;
-      params.integrator = k;
-      params.light_sampling = mode;
-      params.max_depth = 1000;
+      const RenderParams params = strategy(k, mode, 1000);
       Ray ray{vec3(0.1f, 0.2f, 0.3f), glm::normalize(vec3(0.3f, -0.5f, 0.8f)), kInfinity};
       Estimate e = estimate(rs, params, ray, 40000, 7);
       EXPECT_NEAR(e.mean, 1.0, 5.0 * e.stderr_ + 1e-3) << config_name(k, mode);
@@ -315,11 +318,7 @@ TEST(Shadows, AnOccluderHidesItsPartOfTheLight) {
   const Ray ray{vec3(0.0f, 0.25f, 0.0f), vec3(0, -1, 0), kInfinity};
   for (IntegratorKind k : kIntegrators)
     for (LightSampling mode : kModes) {
-      RenderParams params;
-      params.integrator = k;
-      params.light_sampling = mode;
-      params.max_depth = 1;
-      const Estimate e = estimate(rs, params, ray, 60000, 31);
+      const Estimate e = estimate(rs, strategy(k, mode, 1), ray, 60000, 31);
       EXPECT_NEAR(e.mean, expected, 5.0 * e.stderr_ + 1e-4 * expected) << config_name(k, mode);
     }
 }
@@ -331,10 +330,7 @@ TEST(Mirrors, ALightSeenInAMirrorKeepsItsRadiance) {
   Scene s;
   const float radiance = 4.0f;
   const uint32_t emitter = add_material(s, diffuse(vec3(0.0f), vec3(radiance)));
-  Material mirror;
-  mirror.type = MaterialType::specular;
-  mirror.albedo = vec3(1.0f);
-  const uint32_t m = add_material(s, mirror);
+  const uint32_t m = add_material(s, test::mirror(vec3(1.0f)));
   s.quads.push_back({vec3(-1.0f, 1.0f, -1.0f), vec3(2, 0, 0), vec3(0, 0, 2), emitter});  // y = 1, faces down
   s.quads.push_back({vec3(-5, 0, 5), vec3(10, 0, 0), vec3(0, 0, -10), m});             // y = 0, faces up
   RenderScene rs = make_render_scene(s);
@@ -343,11 +339,7 @@ TEST(Mirrors, ALightSeenInAMirrorKeepsItsRadiance) {
   for (IntegratorKind k : kIntegrators)
     for (LightSampling mode : kModes)
       for (int depth : {1, 3}) {
-        RenderParams params;
-        params.integrator = k;
-        params.light_sampling = mode;
-        params.max_depth = depth;
-        const Estimate e = estimate(rs, params, ray, 1000, 37);
+        const Estimate e = estimate(rs, strategy(k, mode, depth), ray, 1000, 37);
         EXPECT_NEAR(e.mean, radiance, 1e-5 * radiance) << config_name(k, mode) << " depth " << depth;
       }
 }
@@ -363,10 +355,7 @@ TEST(PolygonIrradianceMis, AMirrorPassesTheFirstVertexsLightSamplingOn) {
   const float albedo = 0.5f, radiance = 4.0f;
   add_material(s, diffuse(vec3(albedo)));
   const uint32_t emitter = add_material(s, diffuse(vec3(0.0f), vec3(radiance)));
-  Material mirror;
-  mirror.type = MaterialType::specular;
-  mirror.albedo = vec3(1.0f);
-  const uint32_t m = add_material(s, mirror);
+  const uint32_t m = add_material(s, test::mirror(vec3(1.0f)));
   s.quads.push_back({vec3(-50, 0, 50), vec3(100, 0, 0), vec3(0, 0, -100), 0});
   s.quads.push_back({vec3(-1.0f, 1.0f, -1.0f), vec3(2, 0, 0), vec3(0, 0, 2), emitter});  // faces down
   s.quads.push_back({vec3(3.0f, 0.5f, -2.0f), vec3(0, 0, 4), vec3(0, 2.5f, 0), m});     // x = 3, faces -x
