@@ -270,7 +270,9 @@ TEST(Adaptive, RaisingTheMinimumResumesPixelsStoppedBelowIt) {
   std::vector<uint32_t> before = f.film().taken;
   run.frame();
   for (size_t px = 0; px < before.size(); ++px) {
-    if (before[px] < 64) ASSERT_EQ(f.film().taken[px], before[px] + 4) << "pixel " << px;
+    if (before[px] < 64) {
+      ASSERT_EQ(f.film().taken[px], before[px] + 4) << "pixel " << px;
+    }
   }
 }
 
