@@ -53,6 +53,27 @@ TriangleShading triangle_shading(const vec3* v, const vec3* n) {
   return ts;
 }
 
+/// The three corners of every triangle of `mesh` in the render frame (origin o) to v, and their unit shading normals
+/// (zero where the mesh has none, or a normal is zero or not finite) to n. Mesh positions are relative to the mesh's
+/// origin (double): one rounding into the render frame, the same for every triangle sharing a vertex, so shared
+/// edges stay bit-identical (watertight) far from the world origin. The build and the refit both write corners
+/// here, so a refit of moved geometry (positions and normals) equals a rebuild.
+void write_mesh_corners(const Mesh& mesh, vec3 o, vec3* v, vec3* n) {
+  const bool has_normals = !mesh.normal_indices.empty() && mesh.normal_indices.size() == mesh.indices.size();
+  const dvec3 shift = mesh.origin - dvec3(o);
+  for (size_t t = 0; t < mesh.indices.size(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      *v++ = vec3(dvec3(mesh.positions[mesh.indices[t][k]]) + shift);
+      vec3 normal(0.0f);
+      if (has_normals) {
+        normal = mesh.normals[mesh.normal_indices[t][k]];
+        const float len = glm::length(normal);
+        normal = (len > 0.0f && std::isfinite(len)) ? normal / len : vec3(0.0f);
+      }
+      *n++ = normal;
+    }
+}
+
 /// Fills g.tri_shading from g.tri_vertices and g.tri_normals.
 void compute_triangle_shading(RenderGeometry& g) {
   g.tri_shading.resize(g.triangle_count());
@@ -155,24 +176,12 @@ std::shared_ptr<const RenderGeometry> make_render_geometry(const Scene& scene, c
   g.tri_normals.reserve(3 * tri_total);
   g.tri_material.reserve(tri_total);
   for (const Mesh& mesh : scene.meshes) {
-    bool has_normals = !mesh.normal_indices.empty() && mesh.normal_indices.size() == mesh.indices.size();
-    // Mesh positions are relative to the mesh's origin (double): one rounding into the render frame, the same for
-    // every triangle sharing a vertex, so shared edges stay bit-identical (watertight) far from the world origin.
-    const dvec3 shift = mesh.origin - dvec3(o);
-    for (size_t t = 0; t < mesh.indices.size(); ++t) {
-      uvec3 idx = mesh.indices[t];
-      for (int k = 0; k < 3; ++k) g.tri_vertices.push_back(vec3(dvec3(mesh.positions[idx[k]]) + shift));
-      for (int k = 0; k < 3; ++k) {
-        vec3 n(0.0f);
-        if (has_normals) {
-          n = mesh.normals[mesh.normal_indices[t][k]];
-          float len = glm::length(n);
-          n = (len > 0.0f && std::isfinite(len)) ? n / len : vec3(0.0f);
-        }
-        g.tri_normals.push_back(n);
-      }
+    const size_t at = g.tri_vertices.size();  // tri_normals has as many
+    g.tri_vertices.resize(at + 3 * mesh.indices.size());
+    g.tri_normals.resize(at + 3 * mesh.indices.size());
+    write_mesh_corners(mesh, o, g.tri_vertices.data() + at, g.tri_normals.data() + at);
+    for (size_t t = 0; t < mesh.indices.size(); ++t)
       g.tri_material.push_back(clamp_material(t < mesh.materials.size() ? mesh.materials[t] : 0u));
-    }
   }
   g.quad_first_triangle = uint32_t(g.tri_material.size());
   for (const Quad& q : scene.quads) {
@@ -220,10 +229,11 @@ std::shared_ptr<const RenderGeometry> refit_render_geometry(const RenderGeometry
   if (scene.triangle_count() != g.triangle_count() || scene.spheres.size() != g.spheres.size()) return out;
   const vec3 o = g.origin;
   vec3* v = g.tri_vertices.data();
-  for (const Mesh& mesh : scene.meshes) {
-    const dvec3 shift = mesh.origin - dvec3(o);  // exactly as make_render_geometry, so a refit equals a rebuild
-    for (uvec3 idx : mesh.indices)
-      for (int k = 0; k < 3; ++k) *v++ = vec3(dvec3(mesh.positions[idx[k]]) + shift);
+  vec3* n = g.tri_normals.data();
+  for (const Mesh& mesh : scene.meshes) {  // as make_render_geometry, so a refit equals a rebuild
+    write_mesh_corners(mesh, o, v, n);
+    v += 3 * mesh.indices.size();
+    n += 3 * mesh.indices.size();
   }
   for (const Quad& q : scene.quads)
     for (vec3 p : quad_triangles(q, o)) *v++ = p;

@@ -105,9 +105,10 @@ enum class AutoPilot { now, deferred };
 RenderScene make_render_scene(const Scene& scene, std::shared_ptr<const RenderGeometry> geo,
                               AutoPilot pilot = AutoPilot::now);
 
-/// Geometry with the shapes of `scene` moved (the same triangles and spheres as when `geo` was built: only
-/// positions, quads and sphere radii changed), refitted, not rebuilt: what an interactive light edit costs. A scene
-/// with other counts returns an unchanged copy.
+/// Geometry with the shapes of `scene` moved (the same triangles and spheres as when `geo` was built: only mesh
+/// positions and shading normals, quads, and sphere centres and radii changed), refitted, not rebuilt: what an
+/// interactive light edit costs. Equal to a rebuild with geo's origin. A scene with other counts returns an
+/// unchanged copy.
 std::shared_ptr<const RenderGeometry> refit_render_geometry(const RenderGeometry& geo, const Scene& scene);
 
 /// The scene material of primitive `prim` (triangles first, then spheres), as the BVH reports hits.

@@ -1,0 +1,106 @@
+// The render scene (src/render/render_scene.cpp): what the integrator reads at a hit, and the geometry a light edit
+// refits instead of rebuilding.
+//  - a refit of moved (here: rotated) geometry equals a rebuild of it: vertices, shading normals, per-triangle
+//    shading, spheres, and the hits of the refitted tree;
+//  - a shading normal given on the far side of its triangle is turned to the geometric normal's side.
+#include <gtest/gtest.h>
+
+#include <cstring>
+
+#include "core/rng.h"
+#include "core/sampling.h"
+#include "render/render_scene.h"
+#include "render/scene_builders.h"
+
+namespace pt {
+namespace {
+
+/// A square pyramid (base [-1, 1]^2 at z = 0, apex at z = 1, faces outward) with smooth per-vertex normals, a small
+/// quad and a sphere inside its bounds. Turning it by 90 degrees about z keeps its bounds, so the render frame's
+/// origin (the bounds' centre) is the same for the refit and the rebuild.
+Scene pyramid_scene() {
+  Scene s;
+  test::add_material(s, test::diffuse(vec3(0.5f)));
+  Mesh m;
+  m.positions = {vec3(-1, -1, 0), vec3(1, -1, 0), vec3(1, 1, 0), vec3(-1, 1, 0), vec3(0, 0, 1)};
+  m.indices = {uvec3(0, 1, 4), uvec3(1, 2, 4), uvec3(2, 3, 4), uvec3(3, 0, 4), uvec3(0, 3, 2), uvec3(0, 2, 1)};
+  for (vec3 p : m.positions) m.normals.push_back(glm::normalize(p - vec3(0, 0, 0.4f)));
+  m.normal_indices = m.indices;
+  m.materials.assign(m.indices.size(), 0);
+  s.meshes.push_back(m);
+  s.quads.push_back({vec3(-0.2f, -0.1f, 0.3f), vec3(0.3f, 0, 0), vec3(0, 0.2f, 0), 0});
+  s.spheres.push_back({vec3(0.1f, 0.2f, 0.5f), 0.1f, 0});
+  return s;
+}
+
+/// (x, y, z) -> (-y, x, z), exactly.
+vec3 quarter_turn(vec3 p) { return vec3(-p.y, p.x, p.z); }
+
+bool same_bits(vec3 a, vec3 b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+
+TEST(RenderGeometry, ARefitOfMovedGeometryEqualsARebuild) {
+  Scene before = pyramid_scene(), after = before;
+  for (vec3& p : after.meshes[0].positions) p = quarter_turn(p);
+  for (vec3& n : after.meshes[0].normals) n = quarter_turn(n);
+  Quad& q = after.quads[0];
+  q = {quarter_turn(q.corner), quarter_turn(q.edge1), quarter_turn(q.edge2), q.material};
+  after.spheres[0].center = quarter_turn(after.spheres[0].center);
+  const auto old_geo = make_render_geometry(before, {});
+  const auto refit = refit_render_geometry(*old_geo, after);
+  const auto rebuilt = make_render_geometry(after, {});
+  ASSERT_TRUE(same_bits(refit->origin, rebuilt->origin));
+  ASSERT_EQ(refit->triangle_count(), rebuilt->triangle_count());
+  for (size_t i = 0; i < rebuilt->tri_vertices.size(); ++i) {
+    EXPECT_TRUE(same_bits(refit->tri_vertices[i], rebuilt->tri_vertices[i])) << "vertex " << i;
+    EXPECT_TRUE(same_bits(refit->tri_normals[i], rebuilt->tri_normals[i])) << "normal " << i;
+  }
+  for (uint32_t t = 0; t < rebuilt->triangle_count(); ++t) {
+    const TriangleShading &a = refit->tri_shading[t], &b = rebuilt->tri_shading[t];
+    EXPECT_TRUE(same_bits(a.ng, b.ng) && a.valid_ng == b.valid_ng && a.has_normals == b.has_normals) << "triangle " << t;
+  }
+  ASSERT_EQ(refit->spheres.size(), 1u);
+  EXPECT_TRUE(same_bits(refit->spheres[0].center, rebuilt->spheres[0].center));
+  // The refitted tree finds what the rebuilt one finds.
+  Pcg32 rng(3, 4);
+  int hits = 0;
+  for (int i = 0; i < 2000; ++i) {
+    const vec3 org = 3.0f * sample_uniform_sphere(vec2(rng.next_float(), rng.next_float()));
+    const vec3 to = vec3(rng.next_float(), rng.next_float(), rng.next_float()) * 2.0f - 1.0f;
+    Ray ra{org, glm::normalize(to - org), kInfinity}, rb = ra;
+    Hit ha, hb;
+    const bool a = intersect_closest(refit->trace, ra, ha), b = intersect_closest(rebuilt->trace, rb, hb);
+    ASSERT_EQ(a, b) << "ray " << i;
+    if (!a) continue;
+    EXPECT_EQ(ha.prim, hb.prim) << "ray " << i;
+    EXPECT_EQ(ha.t, hb.t) << "ray " << i;
+    ++hits;
+  }
+  EXPECT_GT(hits, 1000);
+}
+
+TEST(RenderScene, AShadingNormalOnTheFarSideIsTurnedToTheGeometricSide) {
+  // A floor whose file gives it normals pointing down while its winding faces up (as exporters sometimes write
+  // them): the shading normal at a hit from above must be on the geometric normal's side, or the surface would
+  // scatter into itself and render black.
+  Scene s;
+  test::add_material(s, test::diffuse(vec3(0.5f)));
+  Mesh m;
+  m.positions = {vec3(-1, 0, 1), vec3(1, 0, 1), vec3(1, 0, -1), vec3(-1, 0, -1)};  // counter-clockwise from above
+  m.indices = {uvec3(0, 1, 2), uvec3(0, 2, 3)};
+  m.normals = {vec3(0, -1, 0), vec3(0.1f, -1, 0)};
+  m.normal_indices = {uvec3(0, 0, 1), uvec3(0, 1, 0)};
+  m.materials = {0, 0};
+  s.meshes.push_back(m);
+  const RenderScene rs = make_render_scene(s);
+  for (vec3 org : {vec3(0.3f, 1.0f, 0.2f), vec3(-0.4f, 1.0f, -0.5f)}) {
+    Ray ray{org - rs.geo->origin, vec3(0, -1, 0), kInfinity};
+    Hit hit;
+    ASSERT_TRUE(intersect_closest(rs.trace(), ray, hit));
+    const SurfaceHit sh = make_surface_hit(rs, ray, hit);
+    EXPECT_GT(sh.sp.ng.y, 0.99f);
+    EXPECT_GT(glm::dot(sh.ns, sh.sp.ng), 0.9f) << sh.ns.x << " " << sh.ns.y << " " << sh.ns.z;
+  }
+}
+
+}  // namespace
+}  // namespace pt
