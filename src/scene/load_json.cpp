@@ -287,9 +287,9 @@ class SceneBuilder {
         // Any other extension is read as OBJ too (an OBJ saved as .txt); when that fails, the error says so, since
         // "no faces" alone would puzzle whoever gave a .ply or an .fbx.
         Result<ObjData> r = read_obj(p.lexically_normal().string(), override_material < 0);
-        if (!r && ext != ".obj")
-          file->fail(r.error() + " (read as OBJ: a mesh file is an .obj, .gltf or .glb, by its extension)");
-        if (!r) file->fail(r.error());
+        if (!r)
+          file->fail(r.error() +
+                     (ext == ".obj" ? "" : " (read as OBJ: a mesh file is an .obj, .gltf or .glb, by its extension)"));
         obj = std::move(*r);
       }
       std::error_code ec;

@@ -269,6 +269,20 @@ TEST_P(PolygonIrradiance, DirectLightingMatchesLambertsFormula) {
 INSTANTIATE_TEST_SUITE_P(Lights, PolygonIrradiance,
                          ::testing::Values("rect", "parallelogram", "triangle", "gltf-quad"));
 
+/// A diffuse floor at y = 0 (albedo kFloorAlbedo, material 0) under a 2 x 2 light of radiance kSquareRadiance at
+/// y = 1, facing down and centred over the origin (material 1, its corners kSquareLight). Seen from the origin its
+/// area density spreads by (sqrt(3) / 1)^3 = 5.2, between the two automatic thresholds. Tests add their shapes.
+constexpr float kFloorAlbedo = 0.5f, kSquareRadiance = 4.0f;
+const std::vector<dvec3> kSquareLight = {dvec3(-1, 1, -1), dvec3(1, 1, -1), dvec3(1, 1, 1), dvec3(-1, 1, 1)};
+Scene square_light_over_floor() {
+  Scene s;
+  add_material(s, diffuse(vec3(kFloorAlbedo)));
+  const uint32_t emitter = add_material(s, diffuse(vec3(0.0f), vec3(kSquareRadiance)));
+  s.quads.push_back({vec3(-50, 0, 50), vec3(100, 0, 0), vec3(0, 0, -100), 0});
+  s.quads.push_back({vec3(-1.0f, 1.0f, -1.0f), vec3(2, 0, 0), vec3(0, 0, 2), emitter});  // cross = -y: faces down
+  return s;
+}
+
 TEST(PolygonIrradianceMis, FirstVertexThresholdIsTheOneTheLightSampleUsed) {
   // MIS under automatic light sampling weighs an emitter hit with light_pdf at the previous vertex, which must use
   // the same spread threshold as that vertex's light sample (1.5 or 8 at the first vertex, per scene). In the
@@ -276,17 +290,10 @@ TEST(PolygonIrradianceMis, FirstVertexThresholdIsTheOneTheLightSampleUsed) {
   // by about 0.2%, under their bound. Here a 2 x 2 light 1 above the receiver: its area density spreads by
   // (sqrt(3) / 1)^3 = 5.2, between the two thresholds, so the thresholds choose different samplings, and it fills
   // a third of the cosine-weighted hemisphere, so the BSDF side carries real weight.
-  Scene s;
-  const float albedo = 0.5f, radiance = 4.0f;
-  add_material(s, diffuse(vec3(albedo)));
-  const uint32_t emitter = add_material(s, diffuse(vec3(0.0f), vec3(radiance)));
-  s.quads.push_back({vec3(-50, 0, 50), vec3(100, 0, 0), vec3(0, 0, -100), 0});
-  const vec3 c(-1.0f, 1.0f, -1.0f), e1(2, 0, 0), e2(0, 0, 2);  // cross(e1, e2) = -y: faces down
-  s.quads.push_back({c, e1, e2, emitter});
-  const std::vector<dvec3> polygon = {dvec3(c), dvec3(c + e1), dvec3(c + e1 + e2), dvec3(c + e2)};
-  RenderScene rs = make_render_scene(s);
+  RenderScene rs = make_render_scene(square_light_over_floor());
   const vec3 x(0.0f);
-  const double expected = albedo / M_PI * polygon_irradiance(polygon, dvec3(x), dvec3(0, 1, 0), radiance);
+  const double expected =
+      kFloorAlbedo / M_PI * polygon_irradiance(kSquareLight, dvec3(x), dvec3(0, 1, 0), kSquareRadiance);
   RenderParams params;
   params.integrator = IntegratorKind::mis;
   params.light_sampling = LightSampling::automatic;
@@ -304,17 +311,13 @@ TEST(Shadows, AnOccluderHidesItsPartOfTheLight) {
   // (its edge is on the line from the origin to the light's middle): the origin's irradiance is that of the other
   // half alone, Lambert's formula for the rectangle [-1, 0] x [-1, 1]. Every strategy must see the shadow: light
   // samples behind the quad are blocked, BSDF samples toward them hit it.
-  Scene s;
-  const float albedo = 0.5f, radiance = 4.0f;
-  add_material(s, diffuse(vec3(albedo)));
-  const uint32_t emitter = add_material(s, diffuse(vec3(0.0f), vec3(radiance)));
+  Scene s = square_light_over_floor();
   const uint32_t black = add_material(s, diffuse(vec3(0.0f)));
-  s.quads.push_back({vec3(-50, 0, 50), vec3(100, 0, 0), vec3(0, 0, -100), 0});
-  s.quads.push_back({vec3(-1.0f, 1.0f, -1.0f), vec3(2, 0, 0), vec3(0, 0, 2), emitter});  // faces down
   s.quads.push_back({vec3(0.0f, 0.5f, -5.0f), vec3(5, 0, 0), vec3(0, 0, 10), black});
   RenderScene rs = make_render_scene(s);
   const std::vector<dvec3> visible = {dvec3(-1, 1, -1), dvec3(0, 1, -1), dvec3(0, 1, 1), dvec3(-1, 1, 1)};
-  const double expected = albedo / M_PI * polygon_irradiance(visible, dvec3(0.0), dvec3(0, 1, 0), radiance);
+  const double expected =
+      kFloorAlbedo / M_PI * polygon_irradiance(visible, dvec3(0.0), dvec3(0, 1, 0), kSquareRadiance);
   const Ray ray{vec3(0.0f, 0.25f, 0.0f), vec3(0, -1, 0), kInfinity};
   for (IntegratorKind k : kIntegrators)
     for (LightSampling mode : kModes) {
@@ -351,18 +354,11 @@ TEST(PolygonIrradianceMis, AMirrorPassesTheFirstVertexsLightSamplingOn) {
   // direct light seen straight down, and seen in a vertical albedo-1 mirror off to the side: a Lambertian receiver
   // reflects the same whatever the direction it is seen from, so the two estimates have the same mean and, if the
   // mirror path samples the light the same way, the same variance.
-  Scene s;
-  const float albedo = 0.5f, radiance = 4.0f;
-  add_material(s, diffuse(vec3(albedo)));
-  const uint32_t emitter = add_material(s, diffuse(vec3(0.0f), vec3(radiance)));
+  Scene s = square_light_over_floor();
   const uint32_t m = add_material(s, test::mirror(vec3(1.0f)));
-  s.quads.push_back({vec3(-50, 0, 50), vec3(100, 0, 0), vec3(0, 0, -100), 0});
-  s.quads.push_back({vec3(-1.0f, 1.0f, -1.0f), vec3(2, 0, 0), vec3(0, 0, 2), emitter});  // faces down
   s.quads.push_back({vec3(3.0f, 0.5f, -2.0f), vec3(0, 0, 4), vec3(0, 2.5f, 0), m});     // x = 3, faces -x
   RenderScene rs = make_render_scene(s);
-  RenderParams params;
-  params.integrator = IntegratorKind::nee;
-  params.light_sampling = LightSampling::automatic;
+  RenderParams params = strategy(IntegratorKind::nee, LightSampling::automatic, 1);
   // Straight down onto (0, 0, 0); and toward the mirror at (3, 1.5, 0), which reflects the ray onto (0, 0, 0).
   const Ray direct{vec3(0.0f, 0.5f, 0.0f), vec3(0, -1, 0), kInfinity};
   const Ray via_mirror{vec3(1.5f, 2.25f, 0.0f), glm::normalize(vec3(3.0f, -1.5f, 0.0f)), kInfinity};
