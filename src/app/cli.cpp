@@ -6,17 +6,12 @@
 #include <filesystem>
 
 #include "app/options.h"
+#include "core/file_name.h"
 #include "render/names.h"
 
 namespace pt {
 
 namespace {
-
-std::string lower_extension(const std::string& path) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-  return ext;
-}
 
 /// "WxH" with both in [1, 16384].
 bool parse_size(const std::string& s, int& w, int& h) {
@@ -34,7 +29,9 @@ std::string check_output_dir(const std::string& option, const std::string& path)
   std::filesystem::path parent = std::filesystem::path(path).parent_path();
   if (parent.empty()) parent = ".";
   std::error_code ec;
-  if (!std::filesystem::is_directory(parent, ec)) return option + ": directory does not exist: " + parent.string();
+  if (!std::filesystem::is_directory(parent, ec))
+    return option + (std::filesystem::exists(parent, ec) ? ": not a directory: " : ": directory does not exist: ") +
+           parent.string();
   if (::access(parent.c_str(), W_OK) != 0) return option + ": directory is not writable: " + parent.string();
   if (std::filesystem::is_directory(path, ec)) return option + ": is a directory: " + path;
   return {};

@@ -18,16 +18,15 @@
 
 #include <algorithm>
 #include <bit>
-#include <cctype>
 #include <cerrno>
 #include <charconv>
 #include <cmath>
 #include <cstring>
 #include <exception>
-#include <filesystem>
 #include <string_view>
 
 #include "core/atomic_file.h"
+#include "core/file_name.h"
 
 namespace pt {
 
@@ -39,13 +38,6 @@ constexpr int kMaxImageDimension = 65536;
 Error file_error(const std::string& path, const std::string& reason) { return Error{path + ": " + reason}; }
 Error errno_error(const std::string& path, const char* what, int err) {
   return file_error(path, std::string(what) + ": " + std::strerror(err));
-}
-
-/// Lower-case extension including the dot ("" if none).
-std::string lower_extension(const std::string& path) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-  return ext;
 }
 
 // ---- Reading files ---------------------------------------------------------------------------------------------

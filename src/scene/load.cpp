@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "core/file_name.h"
 #include "scene/builtin_assets.h"
 #include "scene/load.h"
 #include "scene/load_internal.h"
@@ -18,15 +19,6 @@ namespace {
 constexpr std::string_view kBuiltinPrefix = "builtin:";
 
 /// The extension of the last path component, lower-case, with its dot ("" when there is none).
-std::string lower_extension(const std::string& path) {
-  size_t dot = path.find_last_of('.');
-  size_t slash = path.find_last_of('/');
-  if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return "";
-  std::string ext = path.substr(dot);
-  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-  return ext;
-}
-
 /// Runs a loader so that nothing escapes it: the loaders catch what they expect, this catches the rest (an
 /// allocation failing while finalizing a huge scene, ...) as a one-line error naming the source. Also makes sure
 /// every message is one line.

@@ -32,6 +32,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
 
+#include "core/file_name.h"
 #include "scene/load.h"
 #include "scene/load_internal.h"
 
@@ -611,8 +612,7 @@ std::string first_line(const std::string& s) {
 }
 
 bool is_binary(const std::string& path, std::string_view bytes) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+  const std::string ext = lower_extension(path);
   return ext == ".glb" || (ext != ".gltf" && bytes.substr(0, 4) == "glTF");
 }
 

@@ -12,6 +12,7 @@
 #include <numeric>
 #include <unordered_map>
 
+#include "core/file_name.h"
 #include "scene/json_locate.h"
 #include "scene/load.h"
 #include "scene/load_internal.h"
@@ -275,8 +276,7 @@ class SceneBuilder {
     } else {
       std::filesystem::path p(file->string());
       if (p.is_relative()) p = dir_ / p;
-      std::string ext = p.extension().string();
-      for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+      const std::string ext = lower_extension(p);
       gltf = ext == ".gltf" || ext == ".glb";
       if (gltf) {
         Result<GltfData> r = read_gltf(p.lexically_normal().string(), override_material < 0);

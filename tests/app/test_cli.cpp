@@ -109,7 +109,7 @@ TEST(Cli, BadOptionsExitTwoWithOneLine) {
       {{"--frames", "1", "--integrator", "foo", "--out", out}, "--integrator"},
       {{"--frames", "1", "--light-sampling", "cone", "--out", out}, "--light-sampling"},
       {{"--frames", "1", "--out", dir / "x.jpg"}, "--out"},
-      {{"--frames", "1", "--out", dir / "missing-dir/x.png"}, "missing-dir"},
+      {{"--frames", "1", "--out", dir / "missing-dir/x.png"}, "--out: directory does not exist: "},
       {{"--frames", "1", "--time-limit", "0", "--out", out}, "--time-limit"},
       {{"--frames", "1", "--exposure", "64.5", "--out", out}, "--exposure"},
       {{"--frames", "1", "--exposure", "-65", "--out", out}, "--exposure"},
@@ -122,6 +122,25 @@ TEST(Cli, BadOptionsExitTwoWithOneLine) {
       {{dir / "scene.txt", "--frames", "1", "--out", out}, "scene.txt"},
   };
   expect_bad_args_fail_cleanly(cases, out, dir);
+}
+
+TEST(Cli, AnOutputBelowAFileSaysTheFileIsNotADirectory) {
+  TempDir dir;
+  const std::string file = dir / "notes.txt";
+  std::ofstream(file) << "kept\n";
+  for (const char* option : {"--out", "--stats-json"}) {
+    std::vector<std::string> args = {"--frames", "1", "--size", "8x8", "--out", dir / "x.png"};
+    if (option == std::string("--out")) {
+      args.back() = file + "/x.png";
+    } else {
+      args.insert(args.end(), {"--stats-json", file + "/s.json"});
+    }
+    const auto r = run_ptview(args);
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_NE(r.err.find(std::string(option) + ": not a directory: " + file), std::string::npos) << r.err;
+    EXPECT_EQ(read_file(file), "kept\n");
+    EXPECT_FALSE(std::filesystem::exists(dir / "x.png"));
+  }
 }
 
 TEST(Cli, ReferenceOfTheWrongSizeIsRejected) {
