@@ -263,24 +263,57 @@ TEST(Sphere, TangentRaysAreClassifiedByTheirDistance) {
             kInfinity);
   t = intersect_sphere(Ray{vec3(1 - kDelta, 0, 5), vec3(0, 0, -1), kInfinity}, vec3(0), 1.0f, kInfinity);
   EXPECT_NEAR(t, 5.0 - std::sqrt(1.0 - sqr(1.0 - double(kDelta))), 1e-5);
-  // Random near-tangent rays: hit inside the rim, miss outside it, no NaN anywhere.
+  // Random near-tangent rays, passing 1e-8 to 1e-3 radii inside or outside the rim: the test is decided in double,
+  // so every ray that passes the center more than 1e-8 radii inside the rim hits and every ray more than 1e-8 outside
+  // misses; no NaN anywhere.
   Pcg32 rng(13, 14);
-  for (int i = 0; i < 20000; ++i) {
+  int grazing_hits = 0;
+  for (int i = 0; i < 40000; ++i) {
     vec3 c = 10.0f * (rand3(rng) - 0.5f);
     float r = 0.1f + rng.next_float();
     vec3 dir = rand_dir(rng);
     vec3 side = glm::normalize(glm::cross(dir, rand_dir(rng)));
-    float offset = r * (1.0f + (rng.next_float() - 0.5f) * 2e-3f);
+    const double rel = std::pow(10.0, -8.0 + 5.0 * rng.next_float()) * (i % 2 ? 1.0 : -1.0);
+    float offset = float(r * (1.0 + rel));
     Ray ray{c + offset * side - (2.0f * r + 5.0f * rng.next_float()) * dir, dir, kInfinity};
     const RefSphere ref = reference_sphere(ray, c, r);
     t = intersect_sphere(ray, c, r, kInfinity);
     ASSERT_FALSE(std::isnan(t));
-    if (ref.line_dist < r * (1.0 - 1e-5)) {
+    if (ref.line_dist < r * (1.0 - 1e-8)) {
       ASSERT_NEAR(t, ref.t0, 1e-3 * r) << "ray " << i;  // t is ill-conditioned at grazing incidence
-    } else if (ref.line_dist > r * (1.0 + 1e-5)) {
+      grazing_hits += ref.line_dist > r * (1.0 - 1e-6);
+    } else if (ref.line_dist > r * (1.0 + 1e-8)) {
       ASSERT_EQ(t, kInfinity) << "ray " << i;
     }
   }
+  EXPECT_GT(grazing_hits, 2000);  // within 1e-6 radii of the rim: the band a too strict early exit would lose
+}
+
+TEST(Sphere, RaysLeavingTheRoundedSurfacePointWithoutAnOffsetDoNotReHitIt) {
+  // The origin is the float nearest a point of the sphere, off the surface by up to half an ulp, either way; no
+  // spawn offset. The root for the surface the ray leaves is then within rounding of 0, on either side, and must
+  // be skipped (sphere.h: hits within k (|f| + r) / |d| of the origin): outward rays miss and inward rays hit the far
+  // side. Centers within a few radii of the world origin, so that the origin's rounding is of the order of r's.
+  Pcg32 rng(15, 16);
+  int outward = 0, inward = 0;
+  for (int i = 0; i < 50000; ++i) {
+    const float r = std::pow(10.0f, 6.0f * rng.next_float() - 3.0f);  // 1e-3 .. 1e3
+    const vec3 n = rand_dir(rng);
+    const vec3 c = 4.0f * r * (rand3(rng) - 0.5f);
+    const vec3 o = vec3(dvec3(c) + double(r) * dvec3(n));
+    const vec3 dir = rand_dir(rng);
+    const float cos_theta = glm::dot(dir, n);
+    const float t = intersect_sphere(Ray{o, dir, kInfinity}, c, r, kInfinity);
+    if (cos_theta > 0.3f) {
+      ASSERT_EQ(t, kInfinity) << "outward ray " << i << " (cos " << cos_theta << ") re-hit the sphere at t = " << t;
+      ++outward;
+    } else if (cos_theta < -0.3f) {
+      ASSERT_NEAR(t, -2.0f * r * cos_theta, 1e-4 * r) << "inward ray " << i;
+      ++inward;
+    }
+  }
+  EXPECT_GT(outward, 15000);
+  EXPECT_GT(inward, 15000);
 }
 
 // REGRESSION TEST for a bug this suite found (src/accel/sphere.h): a sphere of radius 1e-3 at distance 1e4 must be
