@@ -55,8 +55,12 @@ constexpr SceneLoader kLoaders[] = {
     {".glb", &load_gltf_scene},
 };
 
+/// Whether two materials render alike: a parameter their type does not read (a glass's albedo, which an MTL
+/// sets from Kd) does not tell them apart.
 bool same_parameters(const Material& a, const Material& b) {
-  return a.type == b.type && a.albedo == b.albedo && a.ior == b.ior && a.emission == b.emission;
+  if (a.type != b.type || a.emission != b.emission) return false;
+  const MaterialTypeInfo& type = info_of(a.type);
+  return (!type.uses_albedo || a.albedo == b.albedo) && (!type.uses_ior || a.ior == b.ior);
 }
 
 }  // namespace

@@ -290,6 +290,36 @@ TEST(LoadJson, MaterialNamesStayUnique) {
   EXPECT_EQ(names.size(), 4u);  // red, red#2, default, and the default light's material
 }
 
+TEST(LoadJson, MaterialsOfOneNameThatDifferInAnyParameterStayApart) {
+  // The first three OBJ materials below have the names of JSON materials and differ from them in one parameter
+  // that renders: emission, ior or type. Each must be a material of its own (renamed), never merged into the
+  // JSON's. The fourth differs only in what its type does not read (a glass's albedo, from Kd): it is the same
+  // material, and shares the JSON's.
+  TempDir dir;
+  dir.write("a.mtl",
+            "newmtl lamp\nKd 0.5 0.5 0.5\nnewmtl lens\nillum 4\nNi 1.33\nnewmtl shiny\nillum 3\nKd 0 0 0\n"
+            "Ks 0.5 0.5 0.5\nnewmtl clear\nillum 4\nKd 0.3 0.3 0.3\nNi 1.5\n");
+  dir.write("a.obj",
+            "mtllib a.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl lamp\nf 1 2 3\nusemtl lens\nf 1 3 2\n"
+            "usemtl shiny\nf 2 3 1\nusemtl clear\nf 3 1 2\n");
+  std::string path = dir.write("s.json", R"({
+    "materials": {"lamp": {"albedo": [0.5, 0.5, 0.5], "emission": [2, 2, 2]}, "lens": {"type": "glass", "ior": 1.5},
+                  "shiny": {"albedo": [0.5, 0.5, 0.5]}, "clear": {"type": "glass", "ior": 1.5}},
+    "shapes": [{"type": "mesh", "file": "a.obj"}]})");
+  Result<Scene> r = load_scene(path);
+  ASSERT_TRUE(r.ok()) << r.error();
+  const std::vector<uint32_t>& used = r->meshes[0].materials;
+  ASSERT_EQ(used.size(), 4u);
+  EXPECT_EQ(r->materials[used[3]].name, "clear");
+  const Material &lamp = r->materials[used[0]], &lens = r->materials[used[1]], &shiny = r->materials[used[2]];
+  EXPECT_EQ(lamp.name, "lamp#2");
+  EXPECT_EQ(lamp.emission, vec3(0.0f));
+  EXPECT_EQ(lens.name, "lens#2");
+  EXPECT_FLOAT_EQ(lens.ior, 1.33f);
+  EXPECT_EQ(shiny.name, "shiny#2");
+  EXPECT_EQ(shiny.type, MaterialType::specular);
+}
+
 TEST(LoadJson, SyntaxErrorsGiveLineAndColumn) {
   Result<Scene> r = parse("{\n  \"shapes\": [\n    {\"type\": \"sphere\",, \"radius\": 1}\n  ]\n}", "s.json");
   ASSERT_FALSE(r.ok());
