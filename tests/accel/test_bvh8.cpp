@@ -253,6 +253,30 @@ TEST(Bvh8, ParallelBuildIsDeterministic) {
   EXPECT_EQ(a.stats.sah_cost, b.stats.sah_cost);
 }
 
+TEST(Bvh8, TheSweepMakesALeafWhereNoSplitPaysAndSplitsAboveTheLimit) {
+  // n copies of one box: each side of any split has the parent's area, so a split costs a node visit more than the
+  // leaf and the SAH keeps the leaf, up to max_leaf_size (8 by default), above which it must split.
+  const AABB unit{vec3(0.0f), vec3(1.0f)};
+  for (uint32_t n : {2u, 5u, 8u, 16u}) {
+    const std::vector<AABB> boxes(n, unit);
+    const std::vector<vec3> centers(n, unit.center());
+    const Bvh bvh = build_bvh_sweep(boxes, centers, BvhBuildOptions{});
+    if (n <= 8) {
+      ASSERT_EQ(bvh.nodes.size(), 1u) << n;
+      EXPECT_EQ(bvh.nodes[0].count, n);
+    } else {
+      uint32_t in_leaves = 0;
+      for (const BvhNode& node : bvh.nodes) {
+        if (node.count == 0) continue;
+        EXPECT_LE(node.count, 8u);
+        in_leaves += node.count;
+      }
+      EXPECT_EQ(in_leaves, n);
+      EXPECT_GT(bvh.nodes.size(), 1u);
+    }
+  }
+}
+
 TEST(Bvh8, BinnedSahIsWithinFivePercentOfFullSweep) {
   const std::vector<vec3> tv = knot_triangles(400, 48);
   std::vector<AABB> boxes(tv.size() / 3);
