@@ -173,6 +173,18 @@ TEST(LoadObj, TheFirstLibraryToDefineAMaterialWinsAndSaysSo) {
                                 " defines 'paint' again: the first definition is used");
 }
 
+TEST(LoadObj, OneMtllibMayNameSeveralLibrariesAndVtMayHaveOneNumber) {
+  Result<Scene> r = load_unfinalized("libraries_one_line.obj");
+  ASSERT_TRUE(r.ok());
+  ASSERT_EQ(r->meshes[0].indices.size(), 2u);
+  EXPECT_EQ(face_material(*r, 0).name, "paint");
+  expect_vec3(face_material(*r, 0).albedo, vec3(0.6f, 0.2f, 0.2f));  // the first library's
+  EXPECT_EQ(face_material(*r, 1).name, "trim");                      // the second library's only material
+  expect_vec3(face_material(*r, 1).albedo, vec3(0.1f, 0.5f, 0.1f));
+  ASSERT_EQ(r->warnings.size(), 1u);  // 'paint' defined again, located at the one mtllib line
+  EXPECT_NE(r->warnings[0].find("libraries_one_line.obj:3: material library"), std::string::npos) << r->warnings[0];
+}
+
 TEST(LoadObj, NegativeIndicesCountBackFromTheLastElement) {
   Result<Scene> r = load_unfinalized("negative_indices.obj");
   ASSERT_TRUE(r.ok());
@@ -279,6 +291,10 @@ TEST(Polygon, TriangulationCoversConcavePolygonsWithTheirWinding) {
     polygons.push_back(dart);
   }
   polygons.push_back({{1, 0, 0}, {2, 0, 0}, {2, 1, 0}, {0, 1, 0}, {0, 0, 0}});  // the clipper's first corner is flat
+  // A square with a square hole, joined by a bridge walked both ways (as exporters write a face with a hole): two
+  // corners repeat the positions of two others, which must not keep the ears they touch from being clipped.
+  polygons.push_back({{0, 0, 0}, {4, 0, 0}, {4, 4, 0}, {0, 4, 0}, {0, 0, 0}, {1, 1, 0}, {1, 3, 0}, {3, 3, 0},
+                      {3, 1, 0}, {1, 1, 0}});
   for (std::vector<vec3> poly : polygons) {
     for (bool reversed : {false, true}) {
       if (reversed) std::reverse(poly.begin(), poly.end());
