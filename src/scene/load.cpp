@@ -18,7 +18,6 @@ namespace {
 
 constexpr std::string_view kBuiltinPrefix = "builtin:";
 
-/// The extension of the last path component, lower-case, with its dot ("" when there is none).
 /// Runs a loader so that nothing escapes it: the loaders catch what they expect, this catches the rest (an
 /// allocation failing while finalizing a huge scene, ...) as a one-line error naming the source. Also makes sure
 /// every message is one line.
