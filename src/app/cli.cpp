@@ -158,8 +158,7 @@ ParseOutcome parse_command_line(int argc, const char* const* argv) {
   for (auto [name, path] : {std::pair{"--error-map", &o.error_map}, std::pair{"--spp-map", &o.spp_map}}) {
     if (path->empty()) continue;
     if (!o.headless()) return fail(std::string(name) + ": headless only (with --frames, --time-limit or --max-spp)");
-    std::string ext = lower_extension(*path);
-    if (ext != ".pfm" && ext != ".exr") return fail(std::string(name) + ": must be a .pfm or .exr file: " + *path);
+    if (!is_float_image_extension(*path)) return fail(std::string(name) + ": must be a .pfm or .exr file: " + *path);
     if (std::string err = check_output_dir(name, *path); !err.empty()) return fail(err);
   }
   if (quit_opt->count()) {
@@ -181,10 +180,8 @@ ParseOutcome parse_command_line(int argc, const char* const* argv) {
   if (!o.error_csv.empty()) {
     if (std::string err = check_output_dir("--error-csv", o.error_csv); !err.empty()) return fail(err);
   }
-  if (!o.reference.empty()) {
-    std::string ext = lower_extension(o.reference);
-    if (ext != ".pfm" && ext != ".exr") return fail("--reference: must be a .pfm or .exr file: " + o.reference);
-  }
+  if (!o.reference.empty() && !is_float_image_extension(o.reference))
+    return fail("--reference: must be a .pfm or .exr file: " + o.reference);
   o.viewer.stats_json = o.stats_json;
   o.viewer.lock_size = size_opt->count() > 0;
   o.viewer.reference = o.reference;

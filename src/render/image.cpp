@@ -328,7 +328,7 @@ std::optional<Error> save_image(const std::string& path, const Image& image, con
 
 Result<Image> load_image(const std::string& path) {
   const std::string ext = lower_extension(path);
-  if (ext != ".pfm" && ext != ".exr")
+  if (!is_float_image_extension(path))
     return file_error(path, "cannot load \"" + ext + "\" images (expected .pfm or .exr)");
   Result<std::vector<char>> bytes = read_file(path);
   if (!bytes) return Error{bytes.error()};
@@ -337,7 +337,12 @@ Result<Image> load_image(const std::string& path) {
 
 bool is_supported_image_extension(const std::string& path) {
   const std::string ext = lower_extension(path);
-  return ext == ".png" || ext == ".pfm" || ext == ".exr";
+  return ext == ".png" || is_float_image_extension(path);
+}
+
+bool is_float_image_extension(const std::string& path) {
+  const std::string ext = lower_extension(path);
+  return ext == ".pfm" || ext == ".exr";
 }
 
 }  // namespace pt

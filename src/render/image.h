@@ -53,4 +53,8 @@ Result<Image> load_image(const std::string& path);
 /// True if `path` ends with one of the extensions save_image understands.
 bool is_supported_image_extension(const std::string& path);
 
+/// True if `path` ends with .pfm or .exr: the linear float formats load_image reads (references) and the per-pixel
+/// maps are written in.
+bool is_float_image_extension(const std::string& path);
+
 }  // namespace pt
