@@ -37,10 +37,14 @@ inline Ray spawn_ray(const SurfacePoint& sp, vec3 dir) {
   return Ray{offset_ray_origin(sp.p, sp.p_error, sp.ng, dir), dir, kInfinity};
 }
 
-/// A ray from `from` to `to` that stops just short of `to` (both ends offset), for shadow tests.
+/// A ray from `from` to `to` that stops just short of `to` (both ends offset), for shadow tests. The far end is
+/// offset by to's error bound plus gamma(4) of the distance: the normalized direction is off by a few rounding
+/// steps, which moves the point o + tmax dir up to that far from t. Without it, a ray reaching `to` at a grazing
+/// angle could stop inside to's error box, where its own surface may lie (tests/core/test_ray.cpp).
 inline Ray spawn_ray_to(const SurfacePoint& from, const SurfacePoint& to) {
   vec3 o = offset_ray_origin(from.p, from.p_error, from.ng, to.p - from.p);
-  vec3 t = offset_ray_origin(to.p, to.p_error, to.ng, o - to.p);
+  const vec3 direction_error(gamma_bound(4) * glm::length(to.p - o));
+  vec3 t = offset_ray_origin(to.p, to.p_error + direction_error, to.ng, o - to.p);
   vec3 d = t - o;
   float len = glm::length(d);
   if (!(len > 0.0f)) return Ray{o, from.ng, 0.0f};
