@@ -60,6 +60,35 @@ bool for_each_line(std::string_view text, F&& fn) {
   return true;
 }
 
+/// OBJ and MTL text with its continued lines joined: a backslash that ends a line (before "\n", "\r\n" or a lone
+/// "\r") joins the next line to it, as the OBJ specification allows and Blender's importer reads it (also inside a
+/// comment). The backslash and line end become one space, and the line ends taken out are put back after the joined
+/// line, so every line keeps its number: an error in a joined line names its first line. Returns the text unchanged
+/// (no copy) when nothing is continued, which is nearly always.
+inline std::string join_continued_lines(std::string text) {
+  if (text.find("\\\n") == std::string::npos && text.find("\\\r") == std::string::npos) return text;
+  std::string out;
+  out.reserve(text.size());
+  size_t pending = 0;  // line ends taken out of the current logical line
+  for (size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (c == '\\' && i + 1 < text.size() && (text[i + 1] == '\n' || text[i + 1] == '\r')) {
+      out += ' ';
+      i += text[i + 1] == '\r' && i + 2 < text.size() && text[i + 2] == '\n' ? 2 : 1;
+      ++pending;
+    } else if (c == '\n' || c == '\r') {
+      out += c;
+      if (c == '\r' && i + 1 < text.size() && text[i + 1] == '\n') out += text[++i];
+      out.append(pending, '\n');
+      pending = 0;
+    } else {
+      out += c;
+    }
+  }
+  out.append(pending, '\n');
+  return out;
+}
+
 /// Where the comment of an OBJ/MTL line starts: the first '#' that begins the line or follows a space or tab
 /// (so "newmtl a#1" keeps its name), or npos.
 inline size_t comment_start(std::string_view line) {

@@ -60,7 +60,7 @@ Result<Libraries> load_libraries(const std::string& path, const ObjScan& scan, s
                          " (its materials become diffuse 0.8 grey)");
       continue;
     }
-    Result<MtlLibrary> lib = parse_mtl(*text, file.lexically_normal().string());
+    Result<MtlLibrary> lib = parse_mtl(join_continued_lines(std::move(*text)), file.lexically_normal().string());
     if (!lib) return Error{located(path, ref.line) + "material library " + lib.error()};
     for (std::string& w : lib->warnings) warnings.push_back(std::move(w));
     for (Material& m : lib->materials) {
@@ -116,6 +116,7 @@ void compact(Mesh& mesh) {
 Result<ObjData> read_obj(const std::string& path, bool use_mtl) {
   Result<std::string> text = read_text_file(path);
   if (!text) return Error{text.error()};
+  *text = join_continued_lines(std::move(*text));  // both passes below read the joined lines
   Result<ObjScan> scanned = scan_obj(*text, path);
   if (!scanned) return Error{scanned.error()};
   const ObjScan& scan = *scanned;

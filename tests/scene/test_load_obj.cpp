@@ -9,6 +9,7 @@
 #include "scene/load.h"
 #include "scene/mtl.h"
 #include "scene/polygon.h"
+#include "temp_dir.h"
 
 namespace pt {
 namespace {
@@ -193,6 +194,46 @@ TEST(LoadObj, NegativeIndicesCountBackFromTheLastElement) {
   expect_vec3(m.positions[m.indices[0].x], vec3(0, 0, 0));
   expect_vec3(m.positions[m.indices[0].y], vec3(1, 0, 0));
   expect_vec3(m.positions[m.indices[0].z], vec3(0, 1, 0));
+}
+
+TEST(LoadObj, ABackslashAtALineEndContinuesTheLine) {
+  // The OBJ specification's line continuation, after "\n", "\r\n" and a lone "\r"; Blender reads it the same way.
+  test::TempDir dir;
+  for (const std::string eol : {"\n", "\r\n", "\r"}) {
+    const std::string text = "mtllib \\" + eol + "m.mtl" + eol +     // 1-2
+                             "v 0 0 0" + eol + "v 1 \\" + eol +     // 3-4
+                             "0 0" + eol + "v 0 1 0" + eol +         // 5-6
+                             "usemtl red" + eol +                    // 7
+                             "f 1 \\" + eol + "2 \\" + eol + "3" + eol +  // 8-10: one face over three lines
+                             "# a comment \\" + eol + "f 1 2 3" + eol;    // 11-12: continued into the comment
+    dir.write("m.mtl", "newmtl red\nKd 0.5 \\\n0.25 0.125\n");
+    Result<Scene> r = load_obj_scene(dir.write("c.obj", text));
+    ASSERT_TRUE(r.ok()) << r.error();
+    ASSERT_EQ(r->meshes.size(), 1u);
+    const Mesh& m = r->meshes[0];
+    ASSERT_EQ(m.indices.size(), 1u) << "a face in a continued comment is part of the comment";
+    expect_vec3(m.positions[m.indices[0].y], vec3(1, 0, 0));
+    EXPECT_EQ(face_material(*r, 0).name, "red");
+    expect_vec3(face_material(*r, 0).albedo, vec3(0.5f, 0.25f, 0.125f));
+    EXPECT_TRUE(r->warnings.empty()) << r->warnings[0];
+  }
+}
+
+TEST(LoadObj, LinesAfterAContinuedLineKeepTheirNumbers) {
+  test::TempDir dir;
+  const std::string head = "v 0 0 0\nv 1 \\\n0 0\nv 0 1 0\n";  // lines 1-4
+  // An error in a joined line names its first line; one after it, its own.
+  Result<Scene> inside = load_obj_scene(dir.write("a.obj", head + "f 1 2 \\\n9\n"));
+  ASSERT_FALSE(inside.ok());
+  EXPECT_TRUE(inside.error().ends_with("a.obj:5: face vertex index 9 out of range (3 defined so far)"))
+      << inside.error();
+  Result<Scene> after = load_obj_scene(dir.write("b.obj", head + "f 1 2 3\nf 1 2 \\\n3 \\\n\nf 1 2 x\n"));
+  ASSERT_FALSE(after.ok());
+  EXPECT_TRUE(after.error().ends_with("b.obj:9: face vertex index 'x' is not an integer")) << after.error();
+  // A backslash elsewhere is not a continuation: still one located error.
+  Result<Scene> inner = load_obj_scene(dir.write("c.obj", head + "f 1 \\ 2 3\n"));
+  ASSERT_FALSE(inner.ok());
+  EXPECT_TRUE(inner.error().ends_with("c.obj:5: face vertex index '\\' is not an integer")) << inner.error();
 }
 
 TEST(Mtl, MappingPrecedence) {
