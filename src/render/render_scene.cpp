@@ -74,6 +74,24 @@ void write_mesh_corners(const Mesh& mesh, vec3 o, vec3* v, vec3* n) {
     }
 }
 
+/// RenderGeometry::scale for a scene with these (world) bounds: 1 from 2^-20 to 2^20 across (the images of ordinary
+/// scenes stay bit for bit as they were), else 2^-e for the scene's largest extent 2^e <= x < 2^(e+1).
+float render_scale(const AABB& bounds) {
+  const float across = bounds.empty() ? 0.0f : max_component(bounds.extent());
+  if (!(across > 0.0f) || !std::isfinite(across) || (across >= 0x1p-20f && across <= 0x1p20f)) return 1.0f;
+  return std::ldexp(1.0f, -std::ilogb(across));
+}
+
+/// Multiplies the positions of g (relative to its origin) and the spheres' radii by g.scale: exact, a power of two.
+void apply_scale(RenderGeometry& g) {
+  if (g.scale == 1.0f) return;
+  for (vec3& v : g.tri_vertices) v *= g.scale;
+  for (SphereShape& s : g.spheres) {
+    s.center *= g.scale;
+    s.radius *= g.scale;
+  }
+}
+
 /// Fills g.tri_shading from g.tri_vertices and g.tri_normals.
 void compute_triangle_shading(RenderGeometry& g) {
   g.tri_shading.resize(g.triangle_count());
@@ -194,6 +212,8 @@ std::shared_ptr<const RenderGeometry> make_render_geometry(const Scene& scene, c
     g.spheres.push_back({s.center - o, s.radius});
     g.sphere_material.push_back(clamp_material(s.material));
   }
+  g.scale = render_scale(bounds);
+  apply_scale(g);
   for (uint32_t t = 0; t < g.triangle_count(); ++t) {
     const vec3* v = &g.tri_vertices[3 * t];
     vec3 c = glm::cross(v[1] - v[0], v[2] - v[0]);
@@ -211,8 +231,8 @@ RenderScene make_render_scene(const Scene& scene, std::shared_ptr<const RenderGe
   if (rs.materials.empty()) rs.materials.push_back(Material{"default"});
   rs.background = scene.background.value_or(vec3(0.0f));
   rs.camera = scene.camera.value_or(Camera{});
-  rs.camera.eye -= rs.geo->origin;
-  rs.camera.target -= rs.geo->origin;
+  rs.camera.eye = to_render_point(*rs.geo, rs.camera.eye);
+  rs.camera.target = to_render_point(*rs.geo, rs.camera.target);
   rebuild_lights(rs);
   if (pilot == AutoPilot::now) update_auto_light_sampling(rs);
   else rs.auto_pilot_pending = true;
@@ -238,6 +258,7 @@ std::shared_ptr<const RenderGeometry> refit_render_geometry(const RenderGeometry
   for (const Quad& q : scene.quads)
     for (vec3 p : quad_triangles(q, o)) *v++ = p;
   for (size_t s = 0; s < scene.spheres.size(); ++s) g.spheres[s] = {scene.spheres[s].center - o, scene.spheres[s].radius};
+  apply_scale(g);  // the build's scale, so a refit equals a rebuild
   compute_triangle_shading(g);
   refit_trace_geometry(g.trace, g.tri_vertices, g.spheres);
   return out;

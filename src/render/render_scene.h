@@ -43,6 +43,11 @@ struct RenderGeometry {
   /// Everything below is stored relative to this point (the center of the scene's bounds), so a scene far from
   /// the world origin is traced with small coordinates and small rounding errors ("camera-relative" rendering).
   vec3 origin{0.0f};
+  /// ... and scaled by this power of two: 1 for scenes between 2^-20 and 2^20 across, else what brings the scene to
+  /// about 1 across. Float squares of lengths (normals, areas, distances) overflow beyond about 1e19 and underflow
+  /// below 1e-19, so a scene 1e10 across lost its lights (their area overflowed) and one 1e-13 across its shading;
+  /// multiplying by a power of two is exact, and radiance does not depend on scale, so the image is the same.
+  float scale = 1.0f;
   // Triangles: meshes first (in order), then two per quad. Vertex triples, per-corner shading normals (zero when
   // the triangle has none), material per triangle.
   std::vector<vec3> tri_vertices;
@@ -116,9 +121,13 @@ inline uint32_t primitive_material(const RenderGeometry& g, uint32_t prim) {
   return prim < g.triangle_count() ? g.tri_material[prim] : g.sphere_material[prim - g.triangle_count()];
 }
 
-/// A world-space ray in the render scene's (origin-shifted) frame, for callers outside the camera: tests, picking.
+/// A world-space point in the render frame (origin-shifted and scaled, RenderGeometry::origin and scale).
+inline vec3 to_render_point(const RenderGeometry& g, vec3 world) { return (world - g.origin) * g.scale; }
+
+/// A world-space ray in the render scene's frame, for callers outside the camera: tests, picking.
 inline Ray to_render_frame(const RenderScene& rs, Ray ray) {
-  ray.org -= rs.geo->origin;
+  ray.org = to_render_point(*rs.geo, ray.org);
+  ray.tmax *= rs.geo->scale;
   return ray;
 }
 

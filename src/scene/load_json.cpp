@@ -178,11 +178,12 @@ class SceneBuilder {
     if (fov) c.fov_deg = fov->number();
     if (!(c.fov_deg > 0.0f && c.fov_deg < 180.0f))
       (fov ? *fov : n).fail("fov must be between 0 and 180 degrees (exclusive)");
-    vec3 forward = c.target - c.eye;
+    // In double, so that a camera 1e-20 or 1e20 from its target is not taken for a degenerate one.
+    const dvec3 forward = dvec3(c.target) - dvec3(c.eye), dup(c.up);
     const Node& where = target ? *target : eye ? *eye : n;
-    if (!(glm::length(forward) > 0.0f)) where.fail("camera eye and target are the same point");
-    if (!(glm::length(c.up) > 0.0f)) (up ? *up : n).fail("camera up must not be zero");
-    if (!(glm::length(glm::cross(glm::normalize(forward), glm::normalize(c.up))) > 1e-6f))
+    if (!(glm::length(forward) > 0.0)) where.fail("camera eye and target are the same point");
+    if (!(glm::length(dup) > 0.0)) (up ? *up : n).fail("camera up must not be zero");
+    if (!(glm::length(glm::cross(glm::normalize(forward), glm::normalize(dup))) > 1e-6))
       (up ? *up : where).fail("camera up is parallel to the view direction");
     scene.camera = c;
     json_camera_ = true;
@@ -243,9 +244,10 @@ class SceneBuilder {
       q.corner = n.require("corner", "a point").vector3();
       q.edge1 = n.require("edge1", "a vector").vector3();
       q.edge2 = n.require("edge2", "a vector").vector3();
-      float area = glm::length(glm::cross(q.edge1, q.edge2));
-      if (!std::isfinite(area)) n.fail("quad too large");
-      if (area > 0.0f) {
+      // In double: float squares of the cross product overflow for quads 1e10 across and vanish below 1e-10.
+      const double area = glm::length(glm::cross(dvec3(q.edge1), dvec3(q.edge2)));
+      if (!is_finite(q.corner + q.edge1 + q.edge2)) n.fail("quad too large (its far corner is beyond float's range)");
+      if (area > 0.0) {
         q.material = material_of(n);
         scene.quads.push_back(q);
       } else {

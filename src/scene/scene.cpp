@@ -17,6 +17,9 @@ double irradiance_per_radiance(double w, double d, double h) {
   return 2.0 * (x / sx * std::atan(y / sx) + y / sy * std::atan(x / sy));
 }
 
+/// Half the length of b's diagonal, in double: its float square overflows for bounds beyond about 1e19 across.
+float half_diagonal(const AABB& b) { return float(0.5 * glm::length(dvec3(b.extent()))); }
+
 /// Adds a square rectangle light that lights what the camera sees, as a photographer's key light: above and behind
 /// the camera (and a little to its right), facing the center of the bounds, outside their bounding sphere, its side
 /// as long as the bounds' diameter, and bright enough for an irradiance of 2 at that center (a diffuse 0.8 surface
@@ -24,22 +27,24 @@ double irradiance_per_radiance(double w, double d, double h) {
 /// (issue 13: a statue's median pixel was 0.017).
 void add_default_light(Scene& scene, const AABB& b, const Camera& cam) {
   const vec3 c = b.center();
-  float radius = 0.5f * glm::length(b.extent());
+  float radius = half_diagonal(b);
   if (!(radius > 0.0f) || !std::isfinite(radius)) radius = 1.0f;
-  // The camera's frame (render/camera.h); a degenerate camera gets the default framing's frame.
-  vec3 forward = glm::normalize(cam.target - cam.eye);
+  // The camera's frame (render/camera.h); a degenerate camera gets the default framing's frame. Lengths in double:
+  // float squares overflow for scenes beyond about 1e19 (RenderGeometry::scale renders those).
+  vec3 forward = vec3(glm::normalize(dvec3(cam.target) - dvec3(cam.eye)));
   vec3 right = glm::normalize(glm::cross(forward, cam.up));
   if (!is_finite(forward) || !is_finite(right)) forward = vec3(0, 0, -1), right = vec3(1, 0, 0);
   const vec3 up = glm::cross(right, forward);
   const vec3 dir = glm::normalize(-forward + 0.8f * up + 0.3f * right);  // from the center toward the light
-  float eye_distance = glm::length(cam.eye - c);
+  float eye_distance = float(glm::length(dvec3(cam.eye) - dvec3(c)));
   if (!std::isfinite(eye_distance)) eye_distance = 0.0f;
   // dir's -forward part is 0.76, so 1.5 times the eye's distance puts the light behind the eye.
   float distance = std::max(1.5f * eye_distance, 3.0f * radius);
   if (!std::isfinite(distance)) distance = 3.0f * radius;
   const float side = 2.0f * radius;
   // Edges a, b span the square with cross(a, b) = -dir: the front faces the bounds.
-  const vec3 a = side * glm::normalize(glm::cross(dir, up)), e2 = side * glm::normalize(glm::cross(a, dir));
+  const vec3 ua = glm::normalize(glm::cross(dir, up));
+  const vec3 a = side * ua, e2 = side * glm::normalize(glm::cross(ua, dir));
   Material light;
   light.name = "default-light";
   light.albedo = vec3(0.0f);
@@ -88,7 +93,7 @@ bool Scene::has_emitter() const {
 Camera framing_camera(const AABB& bounds) {
   Camera cam;
   if (!usable(bounds)) return cam;
-  float radius = 0.5f * glm::length(bounds.extent());
+  float radius = half_diagonal(bounds);
   if (!(radius > 0.0f) || !std::isfinite(radius)) radius = 1.0f;  // a single point
   // Far from the origin, keep the eye a few thousand float steps from the target so the view direction exists.
   radius = std::max(radius, 1e-5f * max_component(glm::abs(bounds.center())));

@@ -81,8 +81,8 @@ Tier ViewerState::commit(Tier tier) {
     case Tier::camera: {
       auto rs = std::make_shared<RenderScene>(*render_scene);
       rs->camera = scene.camera.value_or(Camera{});
-      rs->camera.eye -= geo->origin;
-      rs->camera.target -= geo->origin;
+      rs->camera.eye = to_render_point(*geo, rs->camera.eye);
+      rs->camera.target = to_render_point(*geo, rs->camera.target);
       rs->auto_pilot_pending = true;  // the pilot looks through the camera; the session runs it
       render_scene = std::move(rs);
       break;

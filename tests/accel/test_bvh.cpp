@@ -398,6 +398,47 @@ TEST(Bvh, FiniteTmaxOneFloatBeyondAHitOnAFlatBoxStillHits) {
   EXPECT_TRUE(intersect_closest(g, ray, hit));
 }
 
+// The binary tree's slab test (bvh.h intersect_box, used by the sphere tree): a ray through a point of a box's edge
+// touches the closed box, so it must not be culled; in exact arithmetic its entry and exit distances are equal
+// there, and only the widening of the far distances by 1 + 2 gamma(3) (Ize 2013) keeps their roundings from
+// crossing. Coordinates are multiples of 1/8 below 16, so the direction q - o is exact and the ray passes exactly
+// through q.
+TEST(Bvh, SlabTestKeepsRaysThroughABoxEdge) {
+  Pcg32 rng(11, 3);
+  auto grid = [&](float lo, float hi) { return lo + std::floor(rng.next_float() * (hi - lo) * 8.0f) / 8.0f; };
+  int missed = 0, cases = 0;
+  for (int i = 0; i < 200000; ++i) {
+    AABB box{vec3(grid(-4, 0), grid(-4, 0), grid(-4, 0)), vec3(grid(0.125f, 4), grid(0.125f, 4), grid(0.125f, 4))};
+    vec3 q(grid(box.lo.x, box.hi.x), grid(box.lo.y, box.hi.y), grid(box.lo.z, box.hi.z));
+    const int a = int(rng.next_u32() % 3), b = (a + 1 + int(rng.next_u32() % 2)) % 3;
+    q[a] = rng.next_u32() & 1 ? box.hi[a] : box.lo[a];  // on two faces at once: an edge
+    q[b] = rng.next_u32() & 1 ? box.hi[b] : box.lo[b];
+    const vec3 o(grid(-12, 12), grid(-12, 12), grid(-12, 12));
+    if (o == q) continue;
+    ++cases;
+    const Ray ray{o, q - o, kInfinity};
+    if (intersect_box(box, make_ray_box_data(ray), kInfinity) == kInfinity) ++missed;
+  }
+  EXPECT_GT(cases, 190000);
+  EXPECT_EQ(missed, 0) << "of " << cases << " rays through a box edge";
+}
+
+// A direction component of -0 is a direction parallel to that slab, like +0: the ray inside the slab hits.
+TEST(Bvh, SlabTestTakesNegativeZeroDirectionsAsParallel) {
+  const AABB box{vec3(-1.0f), vec3(1.0f)};
+  for (float zero : {0.0f, -0.0f}) {
+    for (int axis = 0; axis < 3; ++axis) {
+      vec3 d(zero);
+      d[(axis + 1) % 3] = 1.0f;
+      vec3 o(0.0f);
+      o[(axis + 1) % 3] = -5.0f;
+      EXPECT_EQ(intersect_box(box, make_ray_box_data(Ray{o, d, kInfinity}), kInfinity), 4.0f) << zero << " " << axis;
+      o[axis] = 2.0f;  // outside the slab of the parallel axis: a miss
+      EXPECT_EQ(intersect_box(box, make_ray_box_data(Ray{o, d, kInfinity}), kInfinity), kInfinity) << zero;
+    }
+  }
+}
+
 /// Depth-first walk checking every structural invariant against the primitive boxes the tree was built from.
 void check_structure(const Bvh& bvh, const std::vector<AABB>& boxes, int max_leaf) {
   const size_t n = boxes.size();

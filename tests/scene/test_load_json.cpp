@@ -223,6 +223,26 @@ TEST(LoadJson, WarningsCarryTheirLines) {
   EXPECT_EQ(r->meshes.size(), 1u);
 }
 
+TEST(LoadJson, TinyAndHugeQuadsAndCamerasAreNotTakenForDegenerateOnes) {
+  // Float squares of lengths vanish below about 1e-19 and overflow above 1e19: the checks are in double, so a quad
+  // 1e-15 or 1e15 across is a quad, and a camera at such scales is a camera (RenderGeometry::scale renders them).
+  for (const char* s : {"1e-15", "1e15", "1e-30", "1e30"}) {
+    const std::string v = s;
+    const std::string text = "{\"camera\": {\"eye\": [0, 0, " + v + "], \"target\": [0, 0, 0]},\n"
+                             " \"shapes\": [{\"type\": \"quad\", \"corner\": [0, 0, 0], \"edge1\": [" + v +
+                             ", 0, 0], \"edge2\": [0, " + v + ", 0]}]}";
+    Result<Scene> r = parse(text, "s.json");
+    ASSERT_TRUE(r.ok()) << s << ": " << r.error();
+    EXPECT_EQ(r->quads.size(), 1u) << s;
+    EXPECT_TRUE(r->warnings.empty()) << s << ": " << r->warnings[0];
+  }
+  Result<Scene> huge = parse(
+      "{\"shapes\": [\n{\"type\": \"quad\", \"corner\": [3e38, 0, 0], \"edge1\": [3e38, 0, 0], \"edge2\": [0, 1, 0]}]}",
+      "h.json");
+  ASSERT_FALSE(huge.ok());
+  EXPECT_EQ(huge.error(), "h.json:2: shapes[0]: quad too large (its far corner is beyond float's range)");
+}
+
 TEST(LoadJson, ManyWarningsAreCappedAndCounted) {
   std::string text = "{\"shapes\": [\n";
   const int n = 20000;
