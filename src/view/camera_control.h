@@ -1,17 +1,22 @@
 #pragma once
-/// Mouse and keyboard camera motions on a pt::Camera: orbit around the target, pan, dolly, fly.
+/// Mouse and keyboard camera motions on a pt::Camera: orbit around the target, pan, dolly, fly. Distances are taken
+/// in double and no motion has an absolute length in it, so the controls behave the same for a scene 1e-15 or 1e15
+/// across (float squares of lengths vanish or overflow there).
+#include "render/render_scene.h"
 #include "scene/scene.h"
 
 namespace pt {
+
+/// |eye - target|, without float's overflow or underflow of its square.
+inline float camera_distance(const Camera& cam) { return float(glm::length(dvec3(cam.eye) - dvec3(cam.target))); }
 
 /// Orbits the eye around the target: `yaw_deg` about the camera's up axis, `pitch_deg` about its right axis,
 /// never flipping over the poles.
 inline void orbit_camera(Camera& cam, float yaw_deg, float pitch_deg) {
   vec3 up = glm::normalize(cam.up);
-  vec3 offset = cam.eye - cam.target;
-  float dist = glm::length(offset);
-  if (!(dist > 0.0f)) return;
-  vec3 dir = offset / dist;
+  const float dist = camera_distance(cam);
+  if (!(dist > 0.0f) || !std::isfinite(dist)) return;
+  vec3 dir = (cam.eye - cam.target) / dist;
   // Rotate about up (yaw).
   float yaw = glm::radians(yaw_deg);
   dir = std::cos(yaw) * dir + std::sin(yaw) * glm::cross(up, dir) + (1.0f - std::cos(yaw)) * glm::dot(up, dir) * up;
@@ -28,10 +33,9 @@ inline void orbit_camera(Camera& cam, float yaw_deg, float pitch_deg) {
 
 /// Moves eye and target together along the image plane; `dx`, `dy` in fractions of the view height.
 inline void pan_camera(Camera& cam, float dx, float dy) {
-  vec3 forward = cam.target - cam.eye;
-  float dist = glm::length(forward);
-  if (!(dist > 0.0f)) return;
-  forward /= dist;
+  const float dist = camera_distance(cam);
+  if (!(dist > 0.0f) || !std::isfinite(dist)) return;
+  const vec3 forward = (cam.target - cam.eye) / dist;
   vec3 right = glm::normalize(glm::cross(forward, cam.up));
   vec3 up = glm::cross(right, forward);
   float scale = 2.0f * dist * std::tan(glm::radians(cam.fov_deg) * 0.5f);
@@ -40,17 +44,29 @@ inline void pan_camera(Camera& cam, float dx, float dy) {
   cam.target += delta;
 }
 
-/// Scales the eye's distance to the target by `factor` (< 1 moves closer).
-inline void dolly_camera(Camera& cam, float factor) {
-  vec3 offset = cam.eye - cam.target;
-  float dist = glm::length(offset);
-  float new_dist = std::max(dist * factor, 1e-4f);
-  if (dist > 0.0f) cam.eye = cam.target + offset * (new_dist / dist);
+/// Scales the eye's distance to the target by `factor` (< 1 moves closer), down to `min_distance` (callers pass a
+/// small fraction of the scene's size, camera_min_distance) and never within float rounding of the target.
+inline void dolly_camera(Camera& cam, float factor, float min_distance) {
+  const float dist = camera_distance(cam);
+  if (!(dist > 0.0f) || !std::isfinite(dist)) return;
+  const float new_dist = std::max({dist * factor, min_distance, 1e-6f * max_component(glm::abs(cam.target))});
+  cam.eye = cam.target + (cam.eye - cam.target) * (new_dist / dist);
+}
+
+/// The dolly's floor and the fly speed's for a scene `scene_size` across: a fixed fraction of it.
+inline float camera_min_distance(float scene_size) {
+  return scene_size > 0.0f && std::isfinite(scene_size) ? 1e-5f * scene_size : 1e-5f;
+}
+
+/// The size of the scene `g` was built from, in world units (the diagonal of its bounds); 0 without geometry.
+inline float scene_size(const RenderGeometry* g) {
+  if (!g || g->trace.bounds().empty()) return 0.0f;
+  return float(glm::length(dvec3(g->trace.bounds().extent())) / double(g->scale));
 }
 
 /// Moves eye and target along the camera's own axes (WASD/QE flying).
 inline void fly_camera(Camera& cam, vec3 local_move) {
-  vec3 forward = glm::normalize(cam.target - cam.eye);
+  const vec3 forward = vec3(glm::normalize(dvec3(cam.target) - dvec3(cam.eye)));
   vec3 right = glm::normalize(glm::cross(forward, cam.up));
   vec3 up = glm::cross(right, forward);
   vec3 delta = local_move.x * right + local_move.y * up + local_move.z * forward;

@@ -47,13 +47,39 @@ TEST(CameraControl, PanMovesEyeAndTargetAlongTheImagePlaneByFractionsOfTheViewHe
 TEST(CameraControl, DollyScalesTheDistanceAndKeepsTheDirection) {
   const Camera before = test_camera();
   Camera c = before;
-  dolly_camera(c, 0.5f);
+  dolly_camera(c, 0.5f, 1e-4f);
   EXPECT_EQ(c.target, before.target);
   expect_near(c.eye - c.target, 0.5f * (before.eye - before.target), 1e-5f);
-  // Never through the target, however many times the wheel turns.
-  for (int i = 0; i < 200; ++i) dolly_camera(c, 0.5f);
-  EXPECT_GT(glm::length(c.eye - c.target), 0.0f);
+  // Never through the target, however many times the wheel turns: it stops at the floor.
+  for (int i = 0; i < 200; ++i) dolly_camera(c, 0.5f, 1e-4f);
+  EXPECT_NEAR(camera_distance(c), 1e-4f, 1e-6f);  // to the rounding of eye's coordinates (about 1)
   EXPECT_GT(glm::dot(c.eye - c.target, before.eye - before.target), 0.0f);
+}
+
+TEST(CameraControl, EveryMotionIsTheSameAtAnyScale) {
+  // The same motions on the test camera scaled by s give the scaled result: no absolute length in the controls
+  // (the dolly's floor scales with the scene, camera_min_distance), and no float square of a length that vanishes at
+  // 1e-20 or overflows at 1e20.
+  const float size = 10.0f;  // the scene the test camera looks at, in its own units
+  auto moves = [&](Camera c, float s) {
+    orbit_camera(c, 30.0f, -10.0f);
+    pan_camera(c, 0.1f, -0.05f);
+    for (int i = 0; i < 4; ++i) dolly_camera(c, 0.5f, camera_min_distance(size * s));
+    fly_camera(c, s * vec3(0.5f, 0.25f, -1.0f));
+    return c;
+  };
+  const Camera ref = moves(test_camera(), 1.0f);
+  for (float s : {1e-20f, 1e-6f, 1e6f, 1e20f}) {
+    Camera scaled = test_camera();
+    scaled.eye *= s;
+    scaled.target *= s;
+    Camera c = moves(scaled, s);
+    expect_near(c.eye / s, ref.eye, 1e-5f);
+    expect_near(c.target / s, ref.target, 1e-5f);
+    // The dolly stops at the same fraction of the scene.
+    for (int i = 0; i < 200; ++i) dolly_camera(c, 0.5f, camera_min_distance(size * s));
+    EXPECT_NEAR(camera_distance(c) / s, camera_min_distance(size), 1e-6f) << s;
+  }
 }
 
 TEST(CameraControl, FlyMovesAlongTheCamerasOwnAxes) {

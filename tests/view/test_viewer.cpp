@@ -212,7 +212,7 @@ TEST(Viewer, PanDollyLightIntensityAndWaitMs) {
   EXPECT_NEAR(mean(*b) / mean(*a), 4.0, 4e-3);
   Camera cam = builtin_camera("cornell-spheres");
   pan_camera(cam, 0.1f, 0.0f);
-  dolly_camera(cam, 0.7f);
+  dolly_camera(cam, 0.7f, 0.0f);  // far above the floor: the viewer's floor does not matter here
   write_builtin_with_camera("cornell-spheres", cam, dir / "moved.json");
   auto h = test::run_ptview({dir / "moved.json", "--frames", "2", "--size", "64x64", "--max-depth", "4", "--out",
                              dir / "moved.pfm"});
