@@ -423,6 +423,18 @@ TEST(Bvh, SlabTestKeepsRaysThroughABoxEdge) {
   EXPECT_EQ(missed, 0) << "of " << cases << " rays through a box edge";
 }
 
+// The SAH charges a leaf for the SIMD blocks it fills: a leaf of 5 triangles costs two 4-wide tests, like one of 8.
+TEST(Bvh, LeafCostCountsWholeBlocks) {
+  BvhBuildOptions o;
+  o.leaf_block_size = 4;
+  const float expected[] = {0, 4, 4, 4, 4, 8, 8, 8, 8, 12};
+  for (uint32_t n = 0; n < 10; ++n) EXPECT_EQ(sah_leaf_tests(n, o), expected[n]) << n;
+  o.leaf_block_size = 1;
+  EXPECT_EQ(sah_leaf_tests(7, o), 7.0f);
+  o.leaf_block_size = 0;  // no blocks: one test per primitive
+  EXPECT_EQ(sah_leaf_tests(7, o), 7.0f);
+}
+
 // A direction component of -0 is a direction parallel to that slab, like +0: the ray inside the slab hits.
 TEST(Bvh, SlabTestTakesNegativeZeroDirectionsAsParallel) {
   const AABB box{vec3(-1.0f), vec3(1.0f)};
