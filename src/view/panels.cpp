@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "render/names.h"
+#include "view/camera_control.h"
 
 namespace pt {
 
@@ -20,7 +21,15 @@ bool input_text(const char* label, std::string& s) {
   return changed;
 }
 
-bool drag_vec3(const char* label, vec3& v, float speed) { return ImGui::DragFloat3(label, &v.x, speed, 0, 0, "%.3f"); }
+/// The panels' unit of length: the scene's size. Drag speeds and limits are fractions of it, so the panels act the
+/// same on a scene 1e-6 or 1e6 across, and numbers show significant digits ("%g"): a "%.3f" format also rounded what
+/// a drag wrote to three decimals, which turned a size of 2e-4 into 0.
+float scene_unit(const ViewerState& st) {
+  const float s = scene_size(st.geo.get());
+  return s > 0.0f && std::isfinite(s) ? s : 1.0f;
+}
+
+bool drag_vec3(const char* label, vec3& v, float speed) { return ImGui::DragFloat3(label, &v.x, speed, 0, 0, "%.5g"); }
 
 /// A combo over a name table: lists the table's entries in its order, whatever the enum values are.
 template <class E>
@@ -94,12 +103,14 @@ void render_panel(ViewerState& st, PanelState& ps) {
 
 void camera_panel(ViewerState& st) {
   Camera c = st.scene.camera.value_or(Camera{});
-  bool changed = drag_vec3("eye", c.eye, 0.01f);
-  changed |= drag_vec3("target", c.target, 0.01f);
+  const float unit = scene_unit(st);
+  bool changed = drag_vec3("eye", c.eye, 0.005f * unit);
+  changed |= drag_vec3("target", c.target, 0.005f * unit);
   changed |= ImGui::SliderFloat("fov", &c.fov_deg, 5.0f, 120.0f, "%.1f deg");
-  float dist = glm::length(c.eye - c.target);
-  if (ImGui::DragFloat("orbit distance", &dist, 0.01f, 1e-3f, 1e6f)) {
-    c.eye = c.target + glm::normalize(c.eye - c.target) * dist;
+  float dist = camera_distance(c);
+  if (ImGui::DragFloat("orbit distance", &dist, 0.005f * unit, camera_min_distance(unit), 1e6f * unit, "%.5g") &&
+      camera_distance(c) > 0.0f) {
+    c.eye = c.target + vec3(glm::normalize(dvec3(c.eye) - dvec3(c.target)) * double(dist));
     changed = true;
   }
   if (ImGui::Button("reset camera (R)")) {
@@ -147,20 +158,22 @@ void light_panel(ViewerState& st) {
   if (ImGui::IsItemHovered()) ImGui::SetTooltip("or click a light in the image");
   const SceneLight& light = st.lights[size_t(st.selected_light)];
   LightPlacement pl = light_placement(st.scene, light);
+  const float unit = scene_unit(st), smallest = 1e-6f * unit;
   if (light.kind == SceneLightKind::sphere) {
     float radius = 0.5f * pl.size.x;
-    if (ImGui::DragFloat("radius", &radius, 0.005f, 1e-4f, 1e4f, "%.3f") && radius > 0.0f && pl.size.x > 0.0f)
+    if (ImGui::DragFloat("radius", &radius, 0.0025f * unit, smallest, 1e3f * unit, "%.4g") && radius > 0.0f &&
+        pl.size.x > 0.0f)
       st.apply(LightShapeEdit{st.selected_light, {}, {}, 2.0f * radius / pl.size.x});
   } else {
     float size[2] = {pl.size.x, pl.size.y};
-    if (ImGui::DragFloat2("size W x H", size, 0.005f, 1e-4f, 1e4f, "%.3f"))
-      st.apply(LightShapeEdit{st.selected_light, {}, vec2(std::max(size[0], 1e-4f), std::max(size[1], 1e-4f)), {}});
+    if (ImGui::DragFloat2("size W x H", size, 0.0025f * unit, smallest, 1e3f * unit, "%.4g"))
+      st.apply(LightShapeEdit{st.selected_light, {}, vec2(std::max(size[0], smallest), std::max(size[1], smallest)), {}});
   }
   float scale = 1.0f;
   if (ImGui::DragFloat("scale", &scale, 0.005f, 0.5f, 2.0f, "x %.3f") && scale > 0.0f && scale != 1.0f)
     st.apply(LightShapeEdit{st.selected_light, {}, {}, scale});
   vec3 center = pl.center;
-  if (drag_vec3("position", center, 0.01f)) st.apply(LightShapeEdit{st.selected_light, center, {}, {}});
+  if (drag_vec3("position", center, 0.005f * unit)) st.apply(LightShapeEdit{st.selected_light, center, {}, {}});
   const Material& m = st.scene.materials[light.material];
   float intensity = max_component(m.emission);
   vec3 color = intensity > 0.0f ? m.emission / intensity : vec3(1.0f);
