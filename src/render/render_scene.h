@@ -112,7 +112,7 @@ RenderScene make_render_scene(const Scene& scene, std::shared_ptr<const RenderGe
 
 /// Geometry with the shapes of `scene` moved (the same triangles and spheres as when `geo` was built: only mesh
 /// positions and shading normals, quads, and sphere centres and radii changed), refitted, not rebuilt: what an
-/// interactive light edit costs. Equal to a rebuild with geo's origin. A scene with other counts returns an
+/// interactive light edit costs. Equal to a rebuild with geo's origin and scale. A scene with other counts returns an
 /// unchanged copy.
 std::shared_ptr<const RenderGeometry> refit_render_geometry(const RenderGeometry& geo, const Scene& scene);
 

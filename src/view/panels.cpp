@@ -166,8 +166,10 @@ void light_panel(ViewerState& st) {
       st.apply(LightShapeEdit{st.selected_light, {}, {}, 2.0f * radius / pl.size.x});
   } else {
     float size[2] = {pl.size.x, pl.size.y};
-    if (ImGui::DragFloat2("size W x H", size, 0.0025f * unit, smallest, 1e3f * unit, "%.4g"))
-      st.apply(LightShapeEdit{st.selected_light, {}, vec2(std::max(size[0], smallest), std::max(size[1], smallest)), {}});
+    if (ImGui::DragFloat2("size W x H", size, 0.0025f * unit, smallest, 1e3f * unit, "%.4g")) {
+      const vec2 wh(std::max(size[0], smallest), std::max(size[1], smallest));
+      st.apply(LightShapeEdit{st.selected_light, {}, wh, {}});
+    }
   }
   float scale = 1.0f;
   if (ImGui::DragFloat("scale", &scale, 0.005f, 0.5f, 2.0f, "x %.3f") && scale > 0.0f && scale != 1.0f)
