@@ -38,8 +38,24 @@ vec3 quarter_turn(vec3 p) { return vec3(-p.y, p.x, p.z); }
 
 bool same_bits(vec3 a, vec3 b) { return std::memcmp(&a, &b, sizeof a) == 0; }
 
-TEST(RenderGeometry, ARefitOfMovedGeometryEqualsARebuild) {
-  Scene before = pyramid_scene(), after = before;
+/// The scene scaled by s, a power of two (exact).
+Scene scaled(Scene s, float f) {
+  for (vec3& p : s.meshes[0].positions) p *= f;
+  for (Quad& q : s.quads) q = {q.corner * f, q.edge1 * f, q.edge2 * f, q.material};
+  for (Sphere& sp : s.spheres) {
+    sp.center *= f;
+    sp.radius *= f;
+  }
+  return s;
+}
+
+class RefitAtScale : public testing::TestWithParam<float> {};
+
+// At 2^-70 and 2^70 the render frame is scaled (RenderGeometry::scale): the refit must scale as the build did.
+INSTANTIATE_TEST_SUITE_P(RenderGeometry, RefitAtScale, testing::Values(1.0f, 0x1p-70f, 0x1p70f));
+
+TEST_P(RefitAtScale, ARefitOfMovedGeometryEqualsARebuild) {
+  Scene before = scaled(pyramid_scene(), GetParam()), after = before;
   for (vec3& p : after.meshes[0].positions) p = quarter_turn(p);
   for (vec3& n : after.meshes[0].normals) n = quarter_turn(n);
   Quad& q = after.quads[0];
@@ -49,6 +65,8 @@ TEST(RenderGeometry, ARefitOfMovedGeometryEqualsARebuild) {
   const auto refit = refit_render_geometry(*old_geo, after);
   const auto rebuilt = make_render_geometry(after, {});
   ASSERT_TRUE(same_bits(refit->origin, rebuilt->origin));
+  ASSERT_EQ(refit->scale, rebuilt->scale);
+  EXPECT_EQ(rebuilt->scale == 1.0f, GetParam() == 1.0f);
   ASSERT_EQ(refit->triangle_count(), rebuilt->triangle_count());
   for (size_t i = 0; i < rebuilt->tri_vertices.size(); ++i) {
     EXPECT_TRUE(same_bits(refit->tri_vertices[i], rebuilt->tri_vertices[i])) << "vertex " << i;
@@ -60,12 +78,14 @@ TEST(RenderGeometry, ARefitOfMovedGeometryEqualsARebuild) {
   }
   ASSERT_EQ(refit->spheres.size(), 1u);
   EXPECT_TRUE(same_bits(refit->spheres[0].center, rebuilt->spheres[0].center));
-  // The refitted tree finds what the rebuilt one finds.
+  // The refitted tree finds what the rebuilt one finds (rays in the render frame, where the pyramid is
+  // 2 * GetParam() * scale across).
   Pcg32 rng(3, 4);
   int hits = 0;
+  const float frame = GetParam() * rebuilt->scale;
   for (int i = 0; i < 2000; ++i) {
-    const vec3 org = 3.0f * sample_uniform_sphere(vec2(rng.next_float(), rng.next_float()));
-    const vec3 to = vec3(rng.next_float(), rng.next_float(), rng.next_float()) * 2.0f - 1.0f;
+    const vec3 org = 3.0f * frame * sample_uniform_sphere(vec2(rng.next_float(), rng.next_float()));
+    const vec3 to = frame * (vec3(rng.next_float(), rng.next_float(), rng.next_float()) * 2.0f - 1.0f);
     Ray ra{org, glm::normalize(to - org), kInfinity}, rb = ra;
     Hit ha, hb;
     const bool a = intersect_closest(refit->trace, ra, ha), b = intersect_closest(rebuilt->trace, rb, hb);
