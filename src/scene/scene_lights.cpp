@@ -97,35 +97,36 @@ vec2 frame_coords(vec3 d, vec3 u, vec3 v) {
 
 LightPlacement triangle_placement(const Mesh& mesh, const SceneLight& light) {
   LightPlacement pl;
-  vec3 normal(0.0f), centroid(0.0f);
-  float area = 0.0f;
+  // Areas and normals in double: their float squares vanish for a light 1e-10 across and overflow at 1e19.
+  dvec3 normal(0.0), centroid(0.0);
+  double area = 0.0;
   std::map<std::pair<uint32_t, uint32_t>, int> edge_count;
   for (uint32_t t : light.triangles) {
     uvec3 idx = mesh.indices[t];
-    vec3 a = mesh.positions[idx[0]], b = mesh.positions[idx[1]], c = mesh.positions[idx[2]];
-    vec3 cr = glm::cross(b - a, c - a);
-    float ta = 0.5f * glm::length(cr);
+    const dvec3 a(mesh.positions[idx[0]]), b(mesh.positions[idx[1]]), c(mesh.positions[idx[2]]);
+    const dvec3 cr = glm::cross(b - a, c - a);
+    const double ta = 0.5 * glm::length(cr);
     normal += cr;
-    centroid += ta * (a + b + c) / 3.0f;
+    centroid += ta * (a + b + c) / 3.0;
     area += ta;
     for (int k = 0; k < 3; ++k) {
       uint32_t i = idx[k], j = idx[(k + 1) % 3];
       ++edge_count[{std::min(i, j), std::max(i, j)}];
     }
   }
-  pl.center = area > 0.0f ? centroid / area : mesh.positions[mesh.indices[light.triangles[0]][0]];
-  float nl = glm::length(normal);
-  vec3 n = nl > 0.0f ? normal / nl : vec3(0, 1, 0);
+  pl.center = area > 0.0 ? vec3(centroid / area) : mesh.positions[mesh.indices[light.triangles[0]][0]];
+  const double nl = glm::length(normal);
+  const vec3 n = nl > 0.0 ? vec3(normal / nl) : vec3(0, 1, 0);
   // Boundary edges (used once) in the triangles' order: a parallelogram's sides, never its diagonal.
   std::vector<vec3> dirs;
   for (uint32_t t : light.triangles)
     for (int k = 0; k < 3; ++k) {
       uint32_t i = mesh.indices[t][k], j = mesh.indices[t][(k + 1) % 3];
       if (edge_count[{std::min(i, j), std::max(i, j)}] != 1) continue;
-      vec3 d = mesh.positions[j] - mesh.positions[i];
-      d -= glm::dot(d, n) * n;
-      float len = glm::length(d);
-      if (len > 0.0f) dirs.push_back(d / len);
+      dvec3 d = dvec3(mesh.positions[j]) - dvec3(mesh.positions[i]);
+      d -= glm::dot(d, dvec3(n)) * dvec3(n);
+      const double len = glm::length(d);
+      if (len > 0.0) dirs.push_back(vec3(d / len));
     }
   if (dirs.empty()) return pl;
   pl.u = dirs[0];

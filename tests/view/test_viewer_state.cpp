@@ -430,6 +430,31 @@ void open_file(ViewerState& st, const std::string& path) {
   st.init(std::move(*s), small_params(), {}, -1);
 }
 
+TEST(SceneLights, APlacementIsTheSameAtAnyScale) {
+  // Two emissive triangles forming a 0.4 x 0.2 rectangle at (0.5, 1, 0.5), scaled by s: the placement scales with
+  // it (areas and normals in double: their float squares vanish below about 1e-10 across).
+  for (float s : {1.0f, 1e-15f, 1e15f}) {
+    Scene scene;
+    Material light;
+    light.emission = vec3(5.0f);
+    scene.materials.push_back(light);
+    Mesh m;
+    m.positions = {vec3(0.3f, 1, 0.4f), vec3(0.7f, 1, 0.4f), vec3(0.7f, 1, 0.6f), vec3(0.3f, 1, 0.6f)};
+    for (vec3& p : m.positions) p *= s;
+    m.indices = {uvec3(0, 2, 1), uvec3(0, 3, 2)};
+    m.materials = {0, 0};
+    scene.meshes.push_back(m);
+    const std::vector<SceneLight> lights = find_scene_lights(scene);
+    ASSERT_EQ(lights.size(), 1u) << s;
+    const LightPlacement pl = light_placement(scene, lights[0]);
+    EXPECT_NEAR(pl.center.x / s, 0.5f, 1e-6f) << s;
+    EXPECT_NEAR(pl.center.y / s, 1.0f, 1e-6f) << s;
+    EXPECT_NEAR(pl.center.z / s, 0.5f, 1e-6f) << s;
+    EXPECT_NEAR(std::max(pl.size.x, pl.size.y) / s, 0.4f, 1e-6f) << s;
+    EXPECT_NEAR(std::min(pl.size.x, pl.size.y) / s, 0.2f, 1e-6f) << s;
+  }
+}
+
 TEST(SceneLights, TwoEmissiveTrianglesAreOneLightResizedInTheirPlane) {
   TempDir dir;
   ViewerState st;
