@@ -53,16 +53,22 @@ inline void dolly_camera(Camera& cam, float factor, float min_distance) {
   cam.eye = cam.target + (cam.eye - cam.target) * (new_dist / dist);
 }
 
-/// The dolly's floor and the fly speed's for a scene `scene_size` across: a fixed fraction of it.
-inline float camera_min_distance(float scene_size) {
-  return scene_size > 0.0f && std::isfinite(scene_size) ? 1e-5f * scene_size : 1e-5f;
-}
-
 /// The size of the scene `g` was built from, in world units (the diagonal of its bounds); 0 without geometry.
 inline float scene_size(const RenderGeometry* g) {
   if (!g || g->trace.bounds().empty()) return 0.0f;
   return float(glm::length(dvec3(g->trace.bounds().extent())) / double(g->scale));
 }
+
+/// The viewer's unit of length: the scene's size, or 1 without geometry. Drag speeds, limits, the dolly's floor and
+/// the fly speed are fractions of it, so the controls act the same on a scene 1e-6 or 1e6 across.
+inline float scene_unit(const RenderGeometry* g) {
+  const float s = scene_size(g);
+  return s > 0.0f && std::isfinite(s) ? s : 1.0f;
+}
+
+/// The dolly's floor and the fly speed's for a scene `unit` across (scene_unit): a fixed fraction of it.
+inline float camera_min_distance(float unit) { return 1e-5f * unit; }
+inline float camera_min_distance(const RenderGeometry* g) { return camera_min_distance(scene_unit(g)); }
 
 /// Moves eye and target along the camera's own axes (WASD/QE flying).
 inline void fly_camera(Camera& cam, vec3 local_move) {

@@ -52,12 +52,12 @@ bool process_input(GLFWwindow* window, InputState& in, ViewerState& st, const Im
     in.last_y = my;
   }
   if (in.scroll != 0.0 && !ui_mouse) {
-    dolly_camera(cam, float(std::pow(0.9, in.scroll)), camera_min_distance(scene_size(st.geo.get())));
+    dolly_camera(cam, float(std::pow(0.9, in.scroll)), camera_min_distance(st.geo.get()));
     camera_moved = true;
   }
   in.scroll = 0.0;
   if (!ui_keyboard) {
-    float speed = float(dt) * 0.5f * std::max(camera_min_distance(scene_size(st.geo.get())), camera_distance(cam));
+    float speed = float(dt) * 0.5f * std::max(camera_min_distance(st.geo.get()), camera_distance(cam));
     vec3 move(0.0f);
     if (glfwGetKey(window, GLFW_KEY_W) == GLFW_PRESS) move.z += speed;
     if (glfwGetKey(window, GLFW_KEY_S) == GLFW_PRESS) move.z -= speed;

@@ -21,14 +21,6 @@ bool input_text(const char* label, std::string& s) {
   return changed;
 }
 
-/// The panels' unit of length: the scene's size. Drag speeds and limits are fractions of it, so the panels act the
-/// same on a scene 1e-6 or 1e6 across, and numbers show significant digits ("%g"): a "%.3f" format also rounded what
-/// a drag wrote to three decimals, which turned a size of 2e-4 into 0.
-float scene_unit(const ViewerState& st) {
-  const float s = scene_size(st.geo.get());
-  return s > 0.0f && std::isfinite(s) ? s : 1.0f;
-}
-
 bool drag_vec3(const char* label, vec3& v, float speed) { return ImGui::DragFloat3(label, &v.x, speed, 0, 0, "%.5g"); }
 
 /// A combo over a name table: lists the table's entries in its order, whatever the enum values are.
@@ -103,7 +95,7 @@ void render_panel(ViewerState& st, PanelState& ps) {
 
 void camera_panel(ViewerState& st) {
   Camera c = st.scene.camera.value_or(Camera{});
-  const float unit = scene_unit(st);
+  const float unit = scene_unit(st.geo.get());
   bool changed = drag_vec3("eye", c.eye, 0.005f * unit);
   changed |= drag_vec3("target", c.target, 0.005f * unit);
   changed |= ImGui::SliderFloat("fov", &c.fov_deg, 5.0f, 120.0f, "%.1f deg");
@@ -158,7 +150,7 @@ void light_panel(ViewerState& st) {
   if (ImGui::IsItemHovered()) ImGui::SetTooltip("or click a light in the image");
   const SceneLight& light = st.lights[size_t(st.selected_light)];
   LightPlacement pl = light_placement(st.scene, light);
-  const float unit = scene_unit(st), smallest = 1e-6f * unit;
+  const float unit = scene_unit(st.geo.get()), smallest = 1e-6f * unit;
   if (light.kind == SceneLightKind::sphere) {
     float radius = 0.5f * pl.size.x;
     if (ImGui::DragFloat("radius", &radius, 0.0025f * unit, smallest, 1e3f * unit, "%.4g") && radius > 0.0f &&

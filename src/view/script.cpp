@@ -157,7 +157,7 @@ const ScriptCommandSpec kCommands[] = {
      }},
     {"dolly", "F", 1, 1, true, check_positive,
      [](ScriptRun&, ViewerState& st, const ScriptCommand& c) {
-       return move_camera(st, [&](Camera& cam) { dolly_camera(cam, num(c, 0), camera_min_distance(scene_size(st.geo.get()))); });
+       return move_camera(st, [&](Camera& cam) { dolly_camera(cam, num(c, 0), camera_min_distance(st.geo.get())); });
      }},
     {"pick", "X Y", 2, 2, true, check_none,
      [](ScriptRun& r, ViewerState& st, const ScriptCommand& c) {

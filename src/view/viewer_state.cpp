@@ -10,6 +10,7 @@
 #include "render/stats_json.h"
 #include "scene/load.h"
 #include "scene/save_json.h"
+#include "view/camera_control.h"
 
 namespace pt {
 
@@ -25,9 +26,8 @@ Material normalized(Material m) {
 }
 
 bool valid_camera(const Camera& c) {
-  // The distance in double: its float square vanishes for a camera 1e-20 from its target.
-  return is_finite(c.eye) && is_finite(c.target) && is_finite(c.up) &&
-         glm::length(dvec3(c.eye) - dvec3(c.target)) > 0.0 && c.fov_deg > 0.0f && c.fov_deg < 180.0f;
+  return is_finite(c.eye) && is_finite(c.target) && is_finite(c.up) && camera_distance(c) > 0.0f && c.fov_deg > 0.0f &&
+         c.fov_deg < 180.0f;
 }
 
 }  // namespace
