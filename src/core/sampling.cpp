@@ -4,6 +4,7 @@
 #include <bit>
 #include <numeric>
 
+#include "core/chord_sine.h"
 #include "core/fast_trig.h"
 #include "core/frame.h"
 
@@ -35,20 +36,6 @@ vec3 sample_uniform_triangle(vec2 u) {
 }
 
 namespace {
-
-/// What the y inversion of a spherical rectangle needs of a chord end y seen from squared distance d2: with
-/// r = sqrt(d2 + y^2), the sine y / r, 1 / r, and 1 - y / r and 1 + y / r each without cancellation (the one that
-/// would cancel is d2 / (r (r + |y|))): what keeps the inversion exact where the chord is seen nearly end-on. One
-/// division, and no branch (the sign of y is random from one receiver to the next).
-struct ChordSine {
-  float sine, inv_r, one_minus, one_plus;
-};
-ChordSine chord_sine(float y, float d2) {
-  const float a = std::abs(y), r = std::sqrt(d2 + y * y), ra = r + a;
-  const float inv = 1.0f / (r * ra);
-  const float inv_r = ra * inv, small = d2 * inv, large = ra * ra * inv;  // 1 / r, 1 - |y| / r, 1 + |y| / r
-  return {y * inv_r, inv_r, y > 0.0f ? small : large, y > 0.0f ? large : small};
-}
 
 /// 2^-e for the power of two 2^e <= m (m positive, normal, below 2^127): an exact scale factor without a division.
 float inverse_power_of_two(float m) {
@@ -113,7 +100,8 @@ bool make_spherical_rectangle(vec3 ref, const RectangleFrame& rect, SphericalRec
   sr.y0 = y0;
   sr.x1 = x1;
   sr.y1 = y1;
-  const ChordSine c0 = chord_sine(-y0, h * h), c1 = chord_sine(y1, h * h);
+  ChordSine c0, c1;
+  chord_sines(-y0, y1, h * h, c0, c1);
   sr.b0 = c0.sine;
   sr.b0p = h * c0.inv_r;
   sr.b1 = c1.sine;
@@ -161,7 +149,8 @@ vec3 sample_spherical_rectangle(const SphericalRectangle& sr, vec2 u) {
   xu = std::isnan(xu) ? 0.5f * (sr.x0 + sr.x1) : xu;  // only where delta and fu vanish together
   xu = std::clamp(xu, sr.x0, sr.x1);
   const float d2 = xu * xu + h * h;
-  const ChordSine e0 = chord_sine(sr.y0, d2), e1 = chord_sine(sr.y1, d2);
+  ChordSine e0, e1;
+  chord_sines(sr.y0, sr.y1, d2, e0, e1);
   const float m0 = e0.one_minus, p0 = e0.one_plus, m1 = e1.one_minus, p1 = e1.one_plus;
   // hv = h0 + u (h1 - h0) with h = sin of the elevation; 1 - hv and 1 + hv interpolated from their exact ends.
   float one_minus = m0 + u.y * (m1 - m0), one_plus = p0 + u.y * (p1 - p0);
