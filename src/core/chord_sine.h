@@ -26,7 +26,7 @@ inline ChordSine chord_sine(float y, float d2) {
 /// chord_sine of both ends of a chord at once, bit for bit the same (the same operations, lane by lane): the two
 /// square roots and the two divisions share one instruction each. A rectangle's setup and sample make two such
 /// pairs, and the divider's throughput, more than the arithmetic, bounds how many rectangle samples a core makes
-/// per second (measured: 10% more samples per second; docs/BENCHMARKS.md, twenty-second round).
+/// per second (measured: a setup + sample 6% faster; docs/BENCHMARKS.md, twenty-second round).
 inline void chord_sines(float ya, float yb, float d2, ChordSine& ea, ChordSine& eb) {
 #if defined(__SSE2__)
   const __m128 y = _mm_setr_ps(ya, yb, ya, yb), d = _mm_set1_ps(d2);
