@@ -123,6 +123,13 @@ bool decode_image_mean(tinygltf::Image*, const int index, std::string*, std::str
 
 // --- accessors -------------------------------------------------------------------------------------------------
 
+/// The unsigned integer of `size` (1, 2 or 4) bytes at p, little-endian as glTF and .glb store them.
+uint32_t little_endian(const unsigned char* p, size_t size) {
+  if (size == 1) return *p;
+  if (size == 2) return uint32_t(p[0]) | uint32_t(p[1]) << 8;
+  return uint32_t(p[0]) | uint32_t(p[1]) << 8 | uint32_t(p[2]) << 16 | uint32_t(p[3]) << 24;
+}
+
 size_t component_size(int type) {
   switch (type) {
     case TINYGLTF_COMPONENT_TYPE_BYTE:
@@ -167,7 +174,7 @@ class Reader {
     if (a.type != TINYGLTF_TYPE_SCALAR || !unsigned_type(a.componentType))
       fail(what + " " + label(index) + " must be SCALAR of unsigned byte, short or int");
     std::vector<uint32_t> out(a.count, 0u);
-    read(a, index, size, [&](size_t i, const unsigned char* p) { out[i] = unsigned_at(p, size); });
+    read(a, index, size, [&](size_t i, const unsigned char* p) { out[i] = little_endian(p, size); });
     return out;
   }
 
@@ -175,11 +182,6 @@ class Reader {
   static bool unsigned_type(int t) {
     return t == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE || t == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT ||
            t == TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
-  }
-  static uint32_t unsigned_at(const unsigned char* p, size_t size) {
-    if (size == 1) return *p;
-    if (size == 2) return uint32_t(p[0]) | uint32_t(p[1]) << 8;
-    return uint32_t(p[0]) | uint32_t(p[1]) << 8 | uint32_t(p[2]) << 16 | uint32_t(p[3]) << 24;
   }
   /// One float, byte or short component (little-endian, as glTF stores them).
   static float component_at(const unsigned char* p, int type, bool normalized) {
@@ -190,15 +192,15 @@ class Reader {
       }
       case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return normalized ? float(*p) / 255.0f : float(*p);
       case TINYGLTF_COMPONENT_TYPE_SHORT: {
-        const float v = float(int16_t(uint16_t(unsigned_at(p, 2))));
+        const float v = float(int16_t(uint16_t(little_endian(p, 2))));
         return normalized ? std::max(v / 32767.0f, -1.0f) : v;
       }
       case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
-        const float v = float(unsigned_at(p, 2));
+        const float v = float(little_endian(p, 2));
         return normalized ? v / 65535.0f : v;
       }
       default: {
-        const uint32_t bits = unsigned_at(p, 4);
+        const uint32_t bits = little_endian(p, 4);
         float f;
         std::memcpy(&f, &bits, 4);
         return f;
@@ -265,7 +267,7 @@ class Reader {
     const unsigned char* val = locate(a.sparse.values.bufferView, size_t(std::max(0, a.sparse.values.byteOffset)), n,
                                       size, false, stride, who + " sparse values");
     for (size_t k = 0; k < n; ++k) {
-      uint32_t i = unsigned_at(idx + k * isize, isize);
+      uint32_t i = little_endian(idx + k * isize, isize);
       if (i >= a.count)
         fail(who + ": sparse index " + std::to_string(i) + " past the count " + std::to_string(a.count));
       put(i, val + k * size);
@@ -593,10 +595,7 @@ void check_glb_header(std::string_view bytes) {
   if (bytes.size() < 12)
     fail("truncated .glb: " + std::to_string(bytes.size()) + " bytes, the header alone needs 12");
   if (bytes.substr(0, 4) != "glTF") fail("not a binary glTF: wrong magic (expected 'glTF')");
-  auto u32 = [&](size_t at) {
-    const auto* p = reinterpret_cast<const unsigned char*>(bytes.data()) + at;
-    return uint32_t(p[0]) | uint32_t(p[1]) << 8 | uint32_t(p[2]) << 16 | uint32_t(p[3]) << 24;
-  };
+  auto u32 = [&](size_t at) { return little_endian(reinterpret_cast<const unsigned char*>(bytes.data()) + at, 4); };
   if (u32(4) != 2) fail("unsupported .glb version " + std::to_string(u32(4)) + " (expected 2)");
   if (u32(8) > bytes.size())
     fail("truncated .glb: the header says " + std::to_string(u32(8)) + " bytes, the file has " +
