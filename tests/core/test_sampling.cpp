@@ -2,6 +2,8 @@
 // that stay orthonormal everywhere.
 #include <gtest/gtest.h>
 
+#include <limits>
+
 #include "chi_square.h"
 #include "core/frame.h"
 #include "core/sampling.h"
@@ -145,6 +147,57 @@ TEST(Sampling, SphericalRectangleDegenerateCases) {
   }
 }
 
+TEST(Sampling, SphericalRectangleSamplesStayOnTheRectangleAtTheEnds) {
+  // The ends of u (0 and 1 - eps) and receivers just off the plane, above the rectangle or grazing it from afar: the
+  // inversions there put x at +-inf (a quotient by a vanishing difference) or y an ulp or two past its edge, and
+  // the clamps bring them back. The sample is on the unit square of the plane y = 0, to within two roundings of the
+  // point's own coordinates.
+  Pcg32 rng(5, 5);
+  const float us[] = {0.0f, 1e-7f, 0.5f, 1.0f - 1e-6f, kOneMinusEpsilon};
+  for (int i = 0; i < 40000; ++i) {
+    const float a = rng.next_float(), b = rng.next_float(), c = rng.next_float();
+    vec3 ref;
+    switch (i % 4) {
+      case 0: ref = vec3(4 * a - 2, -(0.01f + 2 * b), 4 * c - 2); break;
+      case 1: ref = vec3(4 * a - 2, -std::ldexp(1.0f, -int(20 * b) - 1), 4 * c - 2); break;  // just off the plane
+      case 2: ref = vec3(40 * a - 20, -std::ldexp(1.0f, -int(10 * b)), 40 * c - 20); break;  // grazing, far
+      default: ref = vec3(a, -std::ldexp(1.0f, -int(24 * b)), c); break;                     // above it, close
+    }
+    SphericalRectangle sr;
+    if (!make_spherical_rectangle(ref, vec3(0), vec3(1, 0, 0), vec3(0, 0, 1), sr)) continue;
+    const double tol = 0x1p-23 * std::max({1.0f, std::abs(ref.x), std::abs(ref.z)});
+    for (float ux : us) {
+      for (float uy : us) {
+        const vec3 p = sample_spherical_rectangle(sr, vec2(ux, uy));
+        ASSERT_TRUE(is_finite(p)) << ref.x << " " << ref.y << " " << ref.z << " u " << ux << " " << uy;
+        ASSERT_GE(p.x, -tol) << ref.x << " " << ref.y << " " << ref.z << " u " << ux << " " << uy;
+        ASSERT_LE(p.x, 1.0 + tol) << ref.x << " " << ref.y << " " << ref.z << " u " << ux << " " << uy;
+        ASSERT_GE(p.z, -tol) << ref.x << " " << ref.y << " " << ref.z << " u " << ux << " " << uy;
+        ASSERT_LE(p.z, 1.0 + tol) << ref.x << " " << ref.y << " " << ref.z << " u " << ux << " " << uy;
+      }
+    }
+  }
+}
+
+TEST(Sampling, SphericalRectangleIsTheSameAtAnyScale) {
+  // Scaling the receiver and the rectangle by 2^k changes no angle: the solid angle is the same and the samples scale
+  // with it, to a few roundings. At 2^+-60 a product of four lengths (the corner angles' complex products) is 2^+-240,
+  // beyond float's range: the setup rescales the lengths first.
+  const RectCase c = kRects[4];  // tilted, long-short
+  SphericalRectangle base;
+  ASSERT_TRUE(make_spherical_rectangle(c.ref, c.corner, c.e1, c.e2, base));
+  for (int k : {-60, -40, 40, 60}) {
+    const float s = std::ldexp(1.0f, k);
+    SphericalRectangle sr;
+    ASSERT_TRUE(make_spherical_rectangle(s * c.ref, s * c.corner, s * c.e1, s * c.e2, sr)) << k;
+    EXPECT_NEAR(sr.solid_angle, base.solid_angle, 1e-6f * base.solid_angle) << k;
+    for (vec2 u : {vec2(0.1f, 0.2f), vec2(0.5f, 0.5f), vec2(0.9f, 0.3f), vec2(0.0f, kOneMinusEpsilon)}) {
+      const vec3 expected = sample_spherical_rectangle(base, u), got = sample_spherical_rectangle(sr, u) / s;
+      EXPECT_LE(glm::length(got - expected), 1e-5f) << k << " u " << u.x << " " << u.y;
+    }
+  }
+}
+
 struct TriCase {
   vec3 ref, p0, e1, e2;
 };
@@ -277,6 +330,46 @@ TEST(Sampling, DiscreteDistributionOfOneEntryIsCertainAndKeepsU) {
       EXPECT_EQ(d.sample(u, &pmf, &ur), 0u);
       EXPECT_EQ(pmf, 1.0f);
       EXPECT_EQ(ur, u);
+    }
+  }
+}
+
+TEST(Sampling, DiscreteDistributionKeepsItsInvariantsForAnyWeights) {
+  // Random weight tables with zero, infinite and NaN entries: the cdf runs from exactly 0 to exactly 1 without
+  // decreasing, a weight that is not finite and positive gets probability 0, and any u, even outside [0, 1), picks
+  // an entry of positive probability with a remapped u in [0, 1), also at each bucket's two ends.
+  Pcg32 rng(11, 11);
+  const float inf = std::numeric_limits<float>::infinity(), nan = std::numeric_limits<float>::quiet_NaN();
+  for (int trial = 0; trial < 3000; ++trial) {
+    const size_t n = 2 + size_t(trial % 9);
+    std::vector<float> w(n);
+    for (float& x : w)
+      x = rng.next_float() < 0.3f ? 0.0f : std::ldexp(rng.next_float(), int(20 * rng.next_float()) - 10);
+    if (trial % 3 == 0) w[size_t(trial / 3) % n] = inf;
+    if (trial % 4 == 0) w[size_t(trial / 4) % n] = nan;
+    bool any_positive = false;
+    for (float x : w) any_positive |= std::isfinite(x) && x > 0.0f;
+    DiscreteDistribution d(w);
+    ASSERT_EQ(d.cdf.front(), 0.0f);
+    ASSERT_EQ(d.cdf.back(), 1.0f);
+    for (size_t k = 0; k < n; ++k) {
+      ASSERT_LE(d.cdf[k], d.cdf[k + 1]) << trial;
+      ASSERT_TRUE(std::isfinite(d.pmf(k))) << trial;
+      if (any_positive && !(std::isfinite(w[k]) && w[k] > 0.0f)) ASSERT_EQ(d.pmf(k), 0.0f) << trial << " " << k;
+    }
+    std::vector<float> us = {-0.5f, -0.0f, 0.0f, kOneMinusEpsilon, 1.0f, 2.0f};
+    for (float c : d.cdf) {
+      if (c < 1.0f) us.push_back(c);
+      if (c > 0.0f) us.push_back(std::nextafter(c, 0.0f));
+    }
+    for (float u : us) {
+      float pmf = -1.0f, ur = -1.0f;
+      const size_t k = d.sample(u, &pmf, &ur);
+      ASSERT_LT(k, n);
+      ASSERT_GT(pmf, 0.0f) << "trial " << trial << " u " << u << " picked entry " << k << " of weight " << w[k];
+      ASSERT_EQ(pmf, d.pmf(k));
+      ASSERT_GE(ur, 0.0f) << trial << " u " << u;
+      ASSERT_LT(ur, 1.0f) << trial << " u " << u;
     }
   }
 }

@@ -131,17 +131,24 @@ TEST(Gltf, QuantizedPositionsAndNormals) {
   b.node({{"mesh", b.mesh(quantized(s16, sizeof s16, 8, 5122, false))}, {"translation", {0, 0, -1}}});
   const int8_t s8[12] = {-128, 0, 0, 0, 127, 0, 0, 0, 0, 127, 0, 0};  // normalized: -1 (clamped from -128/127), 1
   b.node({{"mesh", b.mesh(quantized(s8, sizeof s8, 4, 5120, true))}, {"translation", {0, 0, -2}}});
+  const uint8_t u8[12] = {0, 0, 0, 0, 255, 0, 0, 0, 0, 255, 0, 0};  // normalized: 0 and 1 (255 / 255)
+  b.node({{"mesh", b.mesh(quantized(u8, sizeof u8, 4, 5121, true))}, {"translation", {0, 0, -3}}});
+  const int16_t n16[12] = {-32768, 0, 0, 0, 32767, 0, 0, 0, 0, 32767, 0, 0};  // normalized: -1 (clamped), 1
+  b.node({{"mesh", b.mesh(quantized(n16, sizeof n16, 8, 5122, true))}, {"translation", {0, 0, -4}}});
+  const uint16_t p16[12] = {0, 0, 0, 0, 9, 0, 0, 0, 0, 11, 0, 0};  // plain unsigned shorts: their values
+  b.node({{"mesh", b.mesh(quantized(p16, sizeof p16, 8, 5123, false))}, {"translation", {0, 0, -5}}});
   b.j["extensionsUsed"] = b.j["extensionsRequired"] = {"KHR_mesh_quantization"};
   test::write_file(dir / "q.gltf", b.embedded());
   Scene s = load_ok(dir / "q.gltf");
   ASSERT_EQ(s.meshes.size(), 1u);
   const Mesh& m = s.meshes[0];
-  ASSERT_EQ(m.indices.size(), 3u);
+  ASSERT_EQ(m.indices.size(), 6u);
   std::vector<vec3> corners;
   for (uvec3 t : m.indices)
     for (int k = 0; k < 3; ++k) corners.push_back(vec3(m.origin + dvec3(m.positions[t[k]])));
-  const std::vector<vec3> want = {{0, 0, 0}, {2, 0, 0}, {0, 2, 0}, {-3, 0, -1}, {5, 0, -1}, {0, 7, -1},
-                                  {-1, 0, -2}, {1, 0, -2}, {0, 1, -2}};
+  const std::vector<vec3> want = {{0, 0, 0},   {2, 0, 0},  {0, 2, 0},  {-3, 0, -1}, {5, 0, -1}, {0, 7, -1},
+                                  {-1, 0, -2}, {1, 0, -2}, {0, 1, -2}, {0, 0, -3},  {1, 0, -3}, {0, 1, -3},
+                                  {-1, 0, -4}, {1, 0, -4}, {0, 1, -4}, {0, 0, -5},  {9, 0, -5}, {0, 11, -5}};
   for (vec3 w : want)
     EXPECT_TRUE(std::any_of(corners.begin(), corners.end(), [&](vec3 c) { return glm::distance(c, w) < 1e-5f; }))
         << w.x << " " << w.y << " " << w.z;
@@ -464,6 +471,15 @@ TEST(GltfBad, MissingBinAndBadDataUri) {
   EXPECT_NE(e.find("uri"), std::string::npos) << e;
 }
 
+/// Sparse substitutions of accessor 0 (the positions of triangle_file) at `which`, each moved to (0, 3, 0).
+void sparse_positions(GltfBuilder& b, const std::vector<uint8_t>& which) {
+  const std::vector<vec3> values(which.size(), vec3(0, 3, 0));
+  const int iv = b.view(which.data(), which.size()), vv = b.view(values.data(), 12 * values.size());
+  b.j["accessors"][0]["sparse"] = {{"count", which.size()},
+                                   {"indices", {{"bufferView", iv}, {"componentType", 5121}}},
+                                   {"values", {{"bufferView", vv}}}};
+}
+
 TEST(GltfBad, RangesAndIndices) {
   TempDir dir;
   struct Case {
@@ -489,6 +505,17 @@ TEST(GltfBad, RangesAndIndices) {
       {"two_parents", [](GltfBuilder& b) { b.node({{"children", {0}}}); }, "more than one parent"},
       {"required", [](GltfBuilder& b) { b.j["extensionsRequired"] = {"KHR_draco_mesh_compression"}; },
        "unsupported required extension 'KHR_draco_mesh_compression'"},
+      {"stride", [](GltfBuilder& b) { b.j["bufferViews"][0]["byteStride"] = 4; },
+       "byteStride 4 is smaller than an element"},
+      {"signed_indices", [](GltfBuilder& b) {
+         std::vector<uint16_t> idx = {0, 1, 2};
+         const int acc = b.indices(idx);
+         b.j["accessors"][size_t(acc)]["componentType"] = 5122;  // signed short
+         b.j["meshes"][0]["primitives"][0]["indices"] = acc;
+       }, "must be SCALAR of unsigned byte, short or int"},
+      {"sparse_index", [](GltfBuilder& b) { sparse_positions(b, {0, 3}); }, "sparse index 3 past the count 3"},
+      {"sparse_count", [](GltfBuilder& b) { sparse_positions(b, {0, 1, 2, 0}); },
+       "sparse count 4 exceeds the accessor's count"},
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(c.name);
