@@ -117,6 +117,7 @@ LightPlacement triangle_placement(const Mesh& mesh, const SceneLight& light) {
   pl.center = area > 0.0 ? vec3(centroid / area) : mesh.positions[mesh.indices[light.triangles[0]][0]];
   const double nl = glm::length(normal);
   const vec3 n = nl > 0.0 ? vec3(normal / nl) : vec3(0, 1, 0);
+  const dvec3 dn(n);
   // Boundary edges (used once) in the triangles' order: a parallelogram's sides, never its diagonal.
   std::vector<vec3> dirs;
   for (uint32_t t : light.triangles)
@@ -124,7 +125,7 @@ LightPlacement triangle_placement(const Mesh& mesh, const SceneLight& light) {
       uint32_t i = mesh.indices[t][k], j = mesh.indices[t][(k + 1) % 3];
       if (edge_count[{std::min(i, j), std::max(i, j)}] != 1) continue;
       dvec3 d = dvec3(mesh.positions[j]) - dvec3(mesh.positions[i]);
-      d -= glm::dot(d, dvec3(n)) * dvec3(n);
+      d -= glm::dot(d, dn) * dn;
       const double len = glm::length(d);
       if (len > 0.0) dirs.push_back(vec3(d / len));
     }

@@ -99,10 +99,11 @@ void camera_panel(ViewerState& st) {
   bool changed = drag_vec3("eye", c.eye, 0.005f * unit);
   changed |= drag_vec3("target", c.target, 0.005f * unit);
   changed |= ImGui::SliderFloat("fov", &c.fov_deg, 5.0f, 120.0f, "%.1f deg");
-  float dist = camera_distance(c);
-  if (ImGui::DragFloat("orbit distance", &dist, 0.005f * unit, camera_min_distance(unit), 1e6f * unit, "%.5g") &&
-      camera_distance(c) > 0.0f) {
-    c.eye = c.target + vec3(glm::normalize(dvec3(c.eye) - dvec3(c.target)) * double(dist));
+  const float dist = camera_distance(c);
+  float new_dist = dist;
+  if (ImGui::DragFloat("orbit distance", &new_dist, 0.005f * unit, camera_min_distance(unit), 1e6f * unit, "%.5g") &&
+      dist > 0.0f) {
+    dolly_camera(c, new_dist / dist, camera_min_distance(unit));  // the wheel's and the script's motion, and floor
     changed = true;
   }
   if (ImGui::Button("reset camera (R)")) {
