@@ -38,7 +38,7 @@ vec3 quarter_turn(vec3 p) { return vec3(-p.y, p.x, p.z); }
 
 bool same_bits(vec3 a, vec3 b) { return std::memcmp(&a, &b, sizeof a) == 0; }
 
-/// The scene scaled by s, a power of two (exact).
+/// The scene scaled by f, a power of two (exact).
 Scene scaled(Scene s, float f) {
   for (vec3& p : s.meshes[0].positions) p *= f;
   for (Quad& q : s.quads) q = {q.corner * f, q.edge1 * f, q.edge2 * f, q.material};

@@ -189,15 +189,20 @@ TEST(Gltf, StripsAndFansAreConvertedPointsAndLinesSkipped) {
   EXPECT_TRUE(has_warning(s, "mesh 1 'fanny': 1 primitive in mode 'lines' skipped")) << s.warnings.size();
 }
 
+/// Sparse substitutions of VEC3 accessor `acc` at `which` (unsigned byte indices), each moved to (0, 3, 0).
+void sparse_positions(GltfBuilder& b, int acc, const std::vector<uint8_t>& which) {
+  const std::vector<vec3> values(which.size(), vec3(0, 3, 0));
+  const int iv = b.view(which.data(), which.size()), vv = b.view(values.data(), 12 * values.size());
+  b.j["accessors"][size_t(acc)]["sparse"] = {{"count", which.size()},
+                                             {"indices", {{"bufferView", iv}, {"componentType", 5121}}},
+                                             {"values", {{"bufferView", vv}}}};
+}
+
 TEST(Gltf, SparseAccessorIsApplied) {
   TempDir dir;
   GltfBuilder b;
   int pos = b.positions(kTriangle);
-  std::vector<uint8_t> which = {2};
-  std::vector<vec3> value = {{0, 3, 0}};
-  int iv = b.view(which.data(), 1), vv = b.view(value.data(), 12);
-  b.j["accessors"][size_t(pos)]["sparse"] = {
-      {"count", 1}, {"indices", {{"bufferView", iv}, {"componentType", 5121}}}, {"values", {{"bufferView", vv}}}};
+  sparse_positions(b, pos, {2});
   b.node({{"mesh", b.mesh(pos)}});
   test::write_file(dir / "sp.gltf", b.embedded());
   Scene s = load_ok(dir / "sp.gltf");
@@ -471,15 +476,6 @@ TEST(GltfBad, MissingBinAndBadDataUri) {
   EXPECT_NE(e.find("uri"), std::string::npos) << e;
 }
 
-/// Sparse substitutions of accessor 0 (the positions of triangle_file) at `which`, each moved to (0, 3, 0).
-void sparse_positions(GltfBuilder& b, const std::vector<uint8_t>& which) {
-  const std::vector<vec3> values(which.size(), vec3(0, 3, 0));
-  const int iv = b.view(which.data(), which.size()), vv = b.view(values.data(), 12 * values.size());
-  b.j["accessors"][0]["sparse"] = {{"count", which.size()},
-                                   {"indices", {{"bufferView", iv}, {"componentType", 5121}}},
-                                   {"values", {{"bufferView", vv}}}};
-}
-
 TEST(GltfBad, RangesAndIndices) {
   TempDir dir;
   struct Case {
@@ -513,8 +509,8 @@ TEST(GltfBad, RangesAndIndices) {
          b.j["accessors"][size_t(acc)]["componentType"] = 5122;  // signed short
          b.j["meshes"][0]["primitives"][0]["indices"] = acc;
        }, "must be SCALAR of unsigned byte, short or int"},
-      {"sparse_index", [](GltfBuilder& b) { sparse_positions(b, {0, 3}); }, "sparse index 3 past the count 3"},
-      {"sparse_count", [](GltfBuilder& b) { sparse_positions(b, {0, 1, 2, 0}); },
+      {"sparse_index", [](GltfBuilder& b) { sparse_positions(b, 0, {0, 3}); }, "sparse index 3 past the count 3"},
+      {"sparse_count", [](GltfBuilder& b) { sparse_positions(b, 0, {0, 1, 2, 0}); },
        "sparse count 4 exceeds the accessor's count"},
   };
   for (const Case& c : cases) {
