@@ -2,11 +2,34 @@
 
 #include <GLFW/glfw3.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "view/camera_control.h"
 
 namespace pt {
+
+ImageArea image_area(int fb_w, int fb_h, int win_w, float panel_w, int render_w, int render_h) {
+  ImageArea area;
+  area.to_fb = win_w > 0 ? float(fb_w) / float(win_w) : 1.0f;
+  area.panel_px = int(panel_w * area.to_fb);
+  area.fb_height = fb_h;
+  area.w = std::max(1, fb_w - area.panel_px);
+  area.h = std::max(1, fb_h);
+  area.rect = letterbox(area.w, area.h, render_w, render_h);
+  area.rect.x += area.panel_px;
+  return area;
+}
+
+std::optional<ivec2> render_pixel_at(const ImageArea& area, double mx, double my, int render_w, int render_h) {
+  const Rect& r = area.rect;
+  if (r.w <= 0 || r.h <= 0) return std::nullopt;
+  // Window units -> framebuffer pixels (top-left origin) -> the rectangle, whose GL y counts from the bottom.
+  const double px = (mx * area.to_fb - r.x) / r.w * render_w;
+  const double py = (my * area.to_fb - (area.fb_height - r.y - r.h)) / r.h * render_h;
+  if (!(px >= 0 && py >= 0 && px < render_w && py < render_h)) return std::nullopt;
+  return ivec2(int(px), int(py));
+}
 
 bool process_input(GLFWwindow* window, InputState& in, ViewerState& st, const ImageArea& area, double dt,
                    bool ui_mouse, bool ui_keyboard) {
@@ -29,12 +52,8 @@ bool process_input(GLFWwindow* window, InputState& in, ViewerState& st, const Im
     } else if (!down && in.dragging[b]) {
       in.dragging[b] = false;
       if (b == 0 && !in.drag_moved) {
-        // Window point -> framebuffer -> render pixel.
-        const Rect& r = area.rect;
-        double px = (mx * area.to_fb - r.x) / r.w * st.params.width;
-        double py = (my * area.to_fb - (area.fb_height - r.y - r.h)) / r.h * st.params.height;
-        if (px >= 0 && py >= 0 && px < st.params.width && py < st.params.height) {
-          st.select_at(int(px), int(py));
+        if (const std::optional<ivec2> pixel = render_pixel_at(area, mx, my, st.params.width, st.params.height)) {
+          st.select_at(pixel->x, pixel->y);
           picked = true;
         }
       }

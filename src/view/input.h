@@ -1,6 +1,7 @@
 #pragma once
 /// Mouse and keyboard to edits: drags orbit and pan, the wheel dollies, WASD/QE fly, F frames, R resets, a click
 /// without motion picks. Everything becomes an Edit applied through ViewerState::apply.
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -22,11 +23,20 @@ struct InputState {
 
 /// Where the image is drawn, in framebuffer pixels (GL origin bottom-left), and the window-to-framebuffer scale.
 struct ImageArea {
-  Rect rect;
+  Rect rect;          ///< the render, letterboxed into the area right of the panel column
   int fb_height = 0;
   float to_fb = 1.0f;
   int panel_px = 0;   ///< the panel column's width
+  int w = 1, h = 1;   ///< the area right of the panel column (what a window-sized render fills)
 };
+
+/// This frame's image area: a framebuffer of fb_w x fb_h pixels behind a window win_w units wide (HiDPI screens
+/// have more pixels than units), a panel column panel_w units wide on the left, a render of render_w x render_h.
+ImageArea image_area(int fb_w, int fb_h, int win_w, float panel_w, int render_w, int render_h);
+
+/// The render pixel under a window point (GLFW cursor units, origin top-left), or nothing outside the image: what a
+/// click picks.
+std::optional<ivec2> render_pixel_at(const ImageArea& area, double mx, double my, int render_w, int render_h);
 
 /// Handles this UI frame's input. `ui_mouse`/`ui_keyboard`: ImGui wants them. Returns true when a click picked
 /// something (the Material panel then opens).

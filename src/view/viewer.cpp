@@ -277,20 +277,14 @@ int run_viewer(const RenderParams& params, const DisplaySettings& display, const
     int fb_w, fb_h, ww, wh;
     glfwGetFramebufferSize(window, &fb_w, &fb_h);
     glfwGetWindowSize(window, &ww, &wh);
-    ImageArea area;
-    area.to_fb = ww > 0 ? float(fb_w) / float(ww) : 1.0f;
-    area.panel_px = int(kPanelWidth * xscale * area.to_fb);
-    area.fb_height = fb_h;
-    const int area_w = std::max(1, fb_w - area.panel_px), area_h = std::max(1, fb_h);
-    area.rect = letterbox(area_w, area_h, st.params.width, st.params.height);
-    area.rect.x += area.panel_px;
+    const ImageArea area = image_area(fb_w, fb_h, ww, float(kPanelWidth) * xscale, st.params.width, st.params.height);
 
     st.poll_load();
     bool divider_mouse = drag_divider(window, st, area, io.WantCaptureMouse, divider_drag);
     if (process_input(window, input, st, area, dt, io.WantCaptureMouse || divider_mouse, io.WantCaptureKeyboard))
       panels.open_material = true;
     if (!script.done()) script.step(st);
-    follow.update(st, panels.lock_size, area_w, area_h);
+    follow.update(st, panels.lock_size, area.w, area.h);
     st.tick_compare();
     const bool dirty = st.display_dirty;
     fetch_frame(st, gl, shown, legend, heat);

@@ -1,0 +1,80 @@
+// Where the viewer draws the render and which pixel a click picks (view/input.h), against the geometry written out
+// here: the viewer tests click through scripts in render pixels, so a wrong window-to-pixel mapping passed them.
+#include <gtest/gtest.h>
+
+#include "view/input.h"
+
+namespace pt {
+namespace {
+
+void expect_rect(const Rect& r, int x, int y, int w, int h) {
+  EXPECT_EQ(r.x, x);
+  EXPECT_EQ(r.y, y);
+  EXPECT_EQ(r.w, w);
+  EXPECT_EQ(r.h, h);
+}
+
+TEST(ImageArea, TheRenderIsLetterboxedRightOfThePanelColumn) {
+  // 1000 x 800 window, no HiDPI, 360-unit panel column: a 640 x 800 area; a 320 x 240 render scales by 2 (the
+  // width decides) and is centred vertically (GL y counts from the bottom).
+  const ImageArea a = image_area(1000, 800, 1000, 360.0f, 320, 240);
+  EXPECT_EQ(a.to_fb, 1.0f);
+  EXPECT_EQ(a.panel_px, 360);
+  EXPECT_EQ(a.w, 640);
+  EXPECT_EQ(a.h, 800);
+  expect_rect(a.rect, 360, 160, 640, 480);
+  // A tall render: the height decides and it is centred horizontally in the area.
+  expect_rect(image_area(1000, 800, 1000, 360.0f, 100, 400).rect, 360 + 220, 0, 200, 800);
+}
+
+TEST(ImageArea, HiDpiFramebuffersScaleThePanelAndTheArea) {
+  // Two framebuffer pixels per window unit.
+  const ImageArea a = image_area(2000, 1600, 1000, 360.0f, 320, 240);
+  EXPECT_EQ(a.to_fb, 2.0f);
+  EXPECT_EQ(a.panel_px, 720);
+  EXPECT_EQ(a.w, 1280);
+  EXPECT_EQ(a.h, 1600);
+  expect_rect(a.rect, 720, 320, 1280, 960);
+}
+
+TEST(ImageArea, AClickPicksThePixelUnderItWithRowZeroAtTheTop) {
+  // The HiDPI area above: each render pixel is 4 x 4 framebuffer pixels, 2 x 2 window units; the image's top-left
+  // corner is at window (360, 160) (framebuffer (720, 1600 - 320 - 960 = 320)).
+  const ImageArea a = image_area(2000, 1600, 1000, 360.0f, 320, 240);
+  auto pick = [&](double mx, double my) { return render_pixel_at(a, mx, my, 320, 240); };
+  EXPECT_EQ(pick(360.0, 160.0), ivec2(0, 0));
+  EXPECT_EQ(pick(360.0 + 2 * 10 + 1, 160.0 + 2 * 20 + 1), ivec2(10, 20));
+  EXPECT_EQ(pick(360.0 + 2 * 320 - 0.01, 160.0 + 2 * 240 - 0.01), ivec2(319, 239));
+  EXPECT_EQ(pick(360.0 + 1, 160.0 + 2 * 240 - 1), ivec2(0, 239)) << "bottom-left: the last row";
+  // Outside the image: the panel column, the letterbox margins above and below, past the right edge.
+  EXPECT_FALSE(pick(359.9, 300.0));
+  EXPECT_FALSE(pick(500.0, 159.9));
+  EXPECT_FALSE(pick(500.0, 160.0 + 2 * 240));
+  EXPECT_FALSE(pick(360.0 + 2 * 320, 300.0));
+  EXPECT_FALSE(pick(-1.0, -1.0));
+}
+
+TEST(ImageArea, AnOddMarginIsCountedFromTheTopOfTheWindow) {
+  // 801 framebuffer rows: the letterbox leaves 160 rows below the image (GL's y) and 161 above it, which is where
+  // the window's cursor y counts from.
+  const ImageArea a = image_area(1000, 801, 1000, 360.0f, 320, 240);
+  expect_rect(a.rect, 360, 160, 640, 480);
+  EXPECT_FALSE(render_pixel_at(a, 500.0, 160.5, 320, 240));
+  EXPECT_EQ(render_pixel_at(a, 500.0, 161.0, 320, 240), ivec2(70, 0));
+  EXPECT_EQ(render_pixel_at(a, 500.0, 640.9, 320, 240), ivec2(70, 239));
+  EXPECT_FALSE(render_pixel_at(a, 500.0, 641.0, 320, 240));
+}
+
+TEST(ImageArea, AMinimisedWindowHasAnAreaButNoPixelToPick) {
+  // glfwGetFramebufferSize gives 0 x 0 for an iconified window: the area stays at least a pixel and nothing breaks.
+  const ImageArea a = image_area(0, 0, 0, 360.0f, 320, 240);
+  EXPECT_EQ(a.to_fb, 1.0f);
+  EXPECT_GE(a.w, 1);
+  EXPECT_GE(a.h, 1);
+  EXPECT_FALSE(render_pixel_at(a, 0.0, 0.0, 320, 240));
+  const ImageArea none{};  // no rectangle yet: no division by its zero width
+  EXPECT_FALSE(render_pixel_at(none, 0.0, 0.0, 320, 240));
+}
+
+}  // namespace
+}  // namespace pt
