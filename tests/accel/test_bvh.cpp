@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <limits>
 #include <numeric>
 #include <thread>
 
@@ -214,7 +215,12 @@ void check_trace_structure(const TraceGeometry& g, const Soup& s) {
           const Tri4& blk = w.block(leaf_first(ref) + k * kBlockUnits);
           ASSERT_NE(blk.prim[0], kInvalidPrim);
           for (int lane = 0; lane < 4; ++lane) {
-            if (blk.prim[lane] == kInvalidPrim) continue;
+            if (blk.prim[lane] == kInvalidPrim) {
+              // A padding lane repeats lane 0, so whatever it hits, lane 0 hits at the same t (bvh8.h).
+              for (int v = 0; v < 3; ++v)
+                for (int a = 0; a < 3; ++a) ASSERT_EQ(blk.v[v][a][lane], blk.v[v][a][0]) << "padding lane " << lane;
+              continue;
+            }
             ASSERT_LT(blk.prim[lane], s.tri_count());
             seen[blk.prim[lane]]++;
             content.extend(tri_box(blk.prim[lane]));
@@ -676,6 +682,95 @@ TEST(Bvh, BinnedSahIsWithinTenPercentOfFullSweepAndBeatsMedian) {
                   1e-4 * reference_sah(*b, boxes, opts.traversal_cost));
     EXPECT_LE(c_binned, 1.10 * c_sweep) << "binned " << c_binned << " sweep " << c_sweep;
     EXPECT_LT(c_binned, c_median) << "binned " << c_binned << " median " << c_median;
+  }
+}
+
+/// Primitives in the subtree of binary node `index`.
+uint32_t subtree_prims(const Bvh& bvh, uint32_t index) {
+  const BvhNode& n = bvh.nodes[index];
+  return n.is_leaf() ? n.count : subtree_prims(bvh, n.first) + subtree_prims(bvh, n.first + 1);
+}
+
+/// Unit boxes in a row along x, 2 apart (centroids 0, 2, 4, ...): every split of the row is a clean cut.
+std::vector<AABB> box_row(int n) {
+  std::vector<AABB> boxes;
+  for (int i = 0; i < n; ++i) boxes.push_back({vec3(2.0f * i - 0.5f, -0.5f, -0.5f), vec3(2.0f * i + 0.5f, 0.5f, 0.5f)});
+  return boxes;
+}
+
+TEST(Bvh, BinnedBuilderMakesALeafWhereNoSplitPays) {
+  // Two clusters of 4 unit cubes, the second shifted by d along x. Union half area 3 + 2d, each cluster's 3: a
+  // leaf of 8 costs 8 (3 + 2d), the best split 24 plus one node visit of 3 + 2d. The leaf pays for d <= 3/14.
+  auto clusters = [](float d) {
+    std::vector<AABB> boxes;
+    for (int i = 0; i < 8; ++i) {
+      const float x = i < 4 ? 0.0f : d;
+      boxes.push_back({vec3(x, 0.0f, 0.0f), vec3(x + 1.0f, 1.0f, 1.0f)});
+    }
+    return boxes;
+  };
+  BvhBuildOptions o;  // traversal cost 1, leaves of up to 8, blocks of 1
+  const Bvh leaf = build_bvh(clusters(0.1f), o);
+  ASSERT_EQ(leaf.nodes.size(), 1u);
+  EXPECT_EQ(leaf.nodes[0].count, 8u);
+  const Bvh split = build_bvh(clusters(0.3f), o);
+  ASSERT_EQ(split.nodes.size(), 3u);
+  EXPECT_EQ(split.nodes[1].count, 4u);
+  EXPECT_EQ(split.nodes[2].count, 4u);
+  o.max_leaf_size = 4;  // above the leaf size a split is forced even where it does not pay
+  EXPECT_EQ(build_bvh(clusters(0.1f), o).nodes.size(), 3u);
+}
+
+TEST(Bvh, BinsCutTheCentroidExtentIntoEqualParts) {
+  // Two bins over centroids 0..14: the bin boundary is at 7, so the only split is 4 | 4 (Wald 2007: bins of equal
+  // width over the centroid bounds).
+  BvhBuildOptions o;
+  o.bins = 2;
+  o.max_leaf_size = 1;
+  const Bvh bvh = build_bvh(box_row(8), o);
+  ASSERT_FALSE(bvh.nodes[0].is_leaf());
+  EXPECT_EQ(subtree_prims(bvh, bvh.nodes[0].first), 4u);
+  EXPECT_EQ(subtree_prims(bvh, bvh.nodes[0].first + 1), 4u);
+}
+
+TEST(Bvh, ARowIsCutNearItsMiddleForEveryLeafBlockSize) {
+  // A row of 64 separated boxes: the SAH's best first cut is near the middle, whatever the block size the leaf
+  // costs are rounded to (the sweep prices leaves of odd block sizes one count at a time).
+  for (int block : {1, 2, 3, 4, 5}) {
+    BvhBuildOptions o;
+    o.leaf_block_size = block;
+    o.max_leaf_size = 1;
+    const Bvh bvh = build_bvh(box_row(64), o);
+    ASSERT_FALSE(bvh.nodes[0].is_leaf());
+    const uint32_t left = subtree_prims(bvh, bvh.nodes[0].first);
+    EXPECT_GE(left, 24u) << "block " << block;
+    EXPECT_LE(left, 40u) << "block " << block;
+  }
+}
+
+TEST(Bvh, ANonFinitePrimitiveDoesNotSpoilTheTree) {
+  // One primitive with a NaN box (a triangle with a NaN vertex) among 5000: it gets an empty box, and the tree over
+  // the others is as good as without it. Its centroid must not make the centroid bounds NaN, which leaves the
+  // node to the median fallback; the second set of boxes is two clusters of 4000 and 1000, which a median split
+  // cuts through.
+  const std::vector<AABB> uniform = prim_boxes(uniform_soup(5000, 44));
+  const std::vector<AABB> clusters = [&] {
+    std::vector<AABB> c = uniform;
+    for (size_t i = 0; i < 1000; ++i) c[i] = {c[i].lo + vec3(1000.0f, 0, 0), c[i].hi + vec3(1000.0f, 0, 0)};
+    return c;
+  }();
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  for (const std::vector<AABB>* boxes : {&uniform, &clusters}) {
+    const float clean = sah_cost(build_bvh(*boxes, {}), 1.0f);
+    for (size_t at : {size_t(0), size_t(2500), boxes->size()}) {
+      std::vector<AABB> with = *boxes;
+      with.insert(with.begin() + std::ptrdiff_t(at), AABB{vec3(nan, 0.0f, 0.0f), vec3(nan, 1.0f, 1.0f)});
+      const Bvh bvh = build_bvh(with, {});
+      std::vector<AABB> built = with;  // what the builder makes of the NaN box: an empty one
+      built[at] = AABB{};
+      check_structure(bvh, built, BvhBuildOptions{}.max_leaf_size);
+      EXPECT_LE(sah_cost(bvh, 1.0f), 1.02f * clean) << "NaN box at " << at;
+    }
   }
 }
 

@@ -364,8 +364,13 @@ TEST(Bvh8, NonFiniteVerticesNeverHitAndLeaveTheRestIntact) {
     c[i % 3] = bad[i % 3];
     tv.insert(tv.end(), {a, b, c});
   }
-  const TraceGeometry g = make_trace_geometry(tv, {});
+  TraceGeometry g = make_trace_geometry(tv, {});
   EXPECT_TRUE(is_finite(g.bounds().lo) && is_finite(g.bounds().hi));
+  // A refit over the same vertices recomputes the same boxes: the non-finite triangles stay out of them.
+  const AABB built = bvh8_bounds(g.triangles);
+  refit_bvh8(g.triangles, tv);
+  EXPECT_EQ(bvh8_bounds(g.triangles).lo, built.lo);
+  EXPECT_EQ(bvh8_bounds(g.triangles).hi, built.hi);
   Pcg32 rng(5, 6);
   int hits = 0;
   for (int i = 0; i < 2000; ++i) {
@@ -415,21 +420,33 @@ TEST(Bvh8, NodesOfOverflowingAreaAreNeverLeavesTooBig) {
   // a leaf of more than kMaxLeafBlocks blocks (a leaf reference holds 2 bits of count: a bigger one would lose its
   // other triangles): every triangle stays in the tree. (Rays cannot check it here: the watertight triangle test's
   // products overflow float for triangles above about 1e12 across, and 1e19 is already 1e12 per float step.)
-  Pcg32 rng(11, 12);
-  std::vector<vec3> tv;
-  const uint32_t n = 3000;
-  for (uint32_t i = 0; i < n; ++i) {
-    const vec3 c = (2.0f * rand3(rng) - 1.0f) * 1e19f;
-    for (int k = 0; k < 3; ++k) tv.push_back(c + (rand3(rng) - 0.5f) * 1e16f);
+  // The second case is flat (z = 0) and spans 6e38: its extent along x overflows to infinity, and infinity times
+  // the zero extent along z makes the half area NaN, which no comparison orders.
+  struct Case {
+    float spread, size;
+    bool flat;
+  };
+  for (const Case& cs : {Case{1e19f, 1e16f, false}, Case{3e38f, 1e36f, true}}) {
+    Pcg32 rng(11, 12);
+    std::vector<vec3> tv;
+    const uint32_t n = 3000;
+    for (uint32_t i = 0; i < n; ++i) {
+      const vec3 c = (2.0f * rand3(rng) - 1.0f) * cs.spread;
+      for (int k = 0; k < 3; ++k) {
+        vec3 v = c + (rand3(rng) - 0.5f) * cs.size;
+        if (cs.flat) v.z = 0.0f;
+        tv.push_back(v);
+      }
+    }
+    const Bvh bin = build_triangle_bvh(tv, triangle_build_options({}));
+    ASSERT_FALSE(std::isfinite(bin.nodes[0].bounds.half_area()));
+    const Bvh8 w = make_bvh8(bin, tv, 2);
+    std::vector<uint32_t> prims;
+    collect_prims(w, 0, prims);
+    std::sort(prims.begin(), prims.end());
+    ASSERT_EQ(prims.size(), n);
+    for (uint32_t i = 0; i < n; ++i) ASSERT_EQ(prims[i], i);
   }
-  const Bvh bin = build_triangle_bvh(tv, triangle_build_options({}));
-  ASSERT_FALSE(std::isfinite(bin.nodes[0].bounds.half_area()));
-  const Bvh8 w = make_bvh8(bin, tv, 2);
-  std::vector<uint32_t> prims;
-  collect_prims(w, 0, prims);
-  std::sort(prims.begin(), prims.end());
-  ASSERT_EQ(prims.size(), n);
-  for (uint32_t i = 0; i < n; ++i) ASSERT_EQ(prims[i], i);
 }
 
 }  // namespace
