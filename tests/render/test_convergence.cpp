@@ -239,7 +239,12 @@ TEST(Adaptive, LoweringTheThresholdResumesStoppedPixels) {
   for (int i = 0; i < 64 && !f.converged(); ++i) run.frame();
   ASSERT_TRUE(f.converged());
   EXPECT_EQ(f.converged_fraction(), 1.0);
+  // Converged, a frame adds nothing: no sample, and no count of samples per pixel reported for it.
+  const int spp = f.spp();
   std::vector<uint32_t> before = f.film().taken;
+  run.frame();
+  EXPECT_EQ(f.spp(), spp);
+  EXPECT_EQ(f.film().taken, before);
   f.set_adaptive({0.02, 16});
   EXPECT_FALSE(f.converged());
   EXPECT_EQ(f.active(), brute_force_active(f.film(), 0.02, 16));
@@ -348,6 +353,20 @@ TEST(Adaptive, PassesOfSeveralFramesGiveTheFilmOfTheFramesOneByOne) {
   EXPECT_EQ(f.frames_to_check(64), 1);
   f.set_adaptive({});
   EXPECT_GE(f.frames_to_check(4), 1 << 20);  // off: no check limits a pass
+}
+
+TEST(Adaptive, PassesHoldTheFramesOfTheirTimeUpToTheCap) {
+  // About pass_seconds of frames, at least one, at most kMaxFramesPerPass however fast a frame is (a pass is what
+  // an edit waits for before its restart shows).
+  EXPECT_EQ(frames_for_pass_time(0.01, 0.05), 5);
+  EXPECT_EQ(frames_for_pass_time(1.0, 0.05), 1);
+  EXPECT_EQ(frames_for_pass_time(0.0, 0.05), 1);  // a frame time not known yet
+  EXPECT_EQ(frames_for_pass_time(1e-9, 0.05), kMaxFramesPerPass);
+  ProgressiveFilm f;
+  f.reset(4, 4);
+  EXPECT_EQ(f.frames_per_pass(1, 1e-9, 0.05, 1000, 1000), kMaxFramesPerPass);
+  EXPECT_EQ(f.frames_per_pass(1, 1e-9, 0.05, 3, 1000), 3);  // frames left
+  EXPECT_EQ(f.frames_per_pass(4, 1e-9, 0.05, 1000, 10), 3);  // the frames that hold the samples left
 }
 
 TEST(Adaptive, AutomaticMinimumFollowsCycles) {

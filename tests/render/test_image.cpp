@@ -359,6 +359,15 @@ TEST_F(ImageFiles, ExrLuminanceOnlyIsGreyAndMissingChannelsAreZero) {
   EXPECT_TRUE(starts_with(z.error(), path("z.exr") + ": ")) << z.error();
 }
 
+TEST_F(ImageFiles, ExrWiderThanTheLimitIsRefusedBeforeItsPixelsAreRead) {
+  // A well-formed file 100,000 pixels wide: past the 65,536 per side that guards allocations against hostile
+  // headers, whose data window alone would otherwise size the image (2^31 x 2^31 pixels take four bytes of header).
+  write_bytes(path("wide.exr"), build_exr(100000, 1, 0, 0, {{"Y", std::vector<float>(100000, 1.0f)}}));
+  const pt::Result<Image> img = pt::load_image(path("wide.exr"));
+  ASSERT_FALSE(img.ok());
+  EXPECT_TRUE(starts_with(img.error(), path("wide.exr") + ": EXR data window 100000x1 out of range")) << img.error();
+}
+
 TEST_F(ImageFiles, CorruptExrIsAnErrorNotAnException) {
   const std::string good = build_exr(2, 2, 0, 0, {{"Y", {1, 2, 3, 4}}});
   for (const auto& [name, bytes] : std::vector<std::pair<std::string, std::string>>{
