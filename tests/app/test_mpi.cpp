@@ -263,6 +263,37 @@ TEST(Mpi, BadInputIsOneLineFromRankZero) {
     EXPECT_EQ(r.exit_code, 2) << args[0];
     EXPECT_EQ(count_lines(r.err), 1) << r.err;
     EXPECT_TRUE(no_files_in(out.path));
+    // Rank 0's own error is the line one process prints (MPI may add a hint at its end), with no rank prefix: that
+    // names the errors of other ranks.
+    const std::string one = run_ptview(args).err;
+    ASSERT_FALSE(one.empty());
+    EXPECT_EQ(r.err.compare(0, one.size() - 1, one, 0, one.size() - 1), 0) << r.err << " against " << one;
+  }
+}
+
+// The films are summed in messages of at most 4 MiB: an 800 x 600 film's sums of doubles (11 MiB a buffer) take
+// three, and every one must land at its own offset of rank 0's film.
+TEST(Mpi, FilmsLargerThanOneMessageSumWhole) {
+  SKIP_WITHOUT_MPI();
+  TempDir dir;
+  const std::vector<std::string> common = {"builtin:cornell", "--frames", "2", "--size", "800x600", "--max-depth",
+                                           "2", "--threads", "1", "--sampler", "independent"};
+  auto with = [&](const std::string& out) {
+    std::vector<std::string> a = common;
+    a.insert(a.end(), {"--out", out});
+    return a;
+  };
+  ASSERT_EQ(run_ptview(with(dir / "one.pfm")).exit_code, 0);
+  const Result<Image> ref = load_image(dir / "one.pfm");
+  ASSERT_TRUE(ref.ok()) << ref.error();
+  for (int k : {2, 3}) {
+    const std::string out = dir / ("k" + std::to_string(k) + ".pfm");
+    auto r = run_mpi(k, with(out));
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const Result<Image> img = load_image(out);
+    ASSERT_TRUE(img.ok()) << img.error();
+    ASSERT_EQ(img->rgb.size(), ref->rgb.size());
+    EXPECT_LE(max_relative_difference(*img, *ref), 1e-6) << k << " ranks";
   }
 }
 
