@@ -34,6 +34,11 @@ TEST(HugeBlockCache, NeverHoldsMoreThanItsCap) {
   for (char* p : blocks) a.deallocate(p, block);
   EXPECT_LE(huge_block_cache::held_bytes(), huge_block_cache::kMaxBytes);
   EXPECT_GE(huge_block_cache::held_bytes(), 2 * block);  // the newest two stay
+  // A block that takes two older ones out to fit under the cap: both go, and it stays.
+  char* big = a.allocate(100 * kPage);
+  a.deallocate(big, 100 * kPage);
+  EXPECT_LE(huge_block_cache::held_bytes(), huge_block_cache::kMaxBytes);
+  EXPECT_GE(huge_block_cache::held_bytes(), 100 * kPage);
   // A block larger than the cap is freed at once.
   const size_t held = huge_block_cache::held_bytes();
   char* huge = a.allocate(huge_block_cache::kMaxBytes + kPage);
