@@ -75,6 +75,15 @@ TEST(StatsJson, EveryDerivedValueIsThatOfTheRun) {
   EXPECT_EQ(j["lights"], r.rs.lights.lights.size());
   EXPECT_EQ(j["triangles"], 12);
   EXPECT_EQ(j["ranks"], 1);
+  // The tree: each key its own figure.
+  const TraceGeometry& g = r.rs.trace();
+  ASSERT_NE(g.triangles.block_count, g.triangles.node_count);
+  EXPECT_EQ(j["bvh"]["primitives"], 14);  // 12 triangles and 2 spheres
+  EXPECT_EQ(j["bvh"]["nodes"], g.triangles.node_count + g.sphere_bvh.nodes.size());
+  EXPECT_EQ(j["bvh"]["leaf_blocks"], g.triangles.block_count);
+  EXPECT_EQ(j["bvh"]["binary_nodes"], g.stats.binary_nodes);
+  EXPECT_EQ(j["bvh"]["depth"], g.stats.depth);
+  EXPECT_EQ(j["bvh"]["bytes"], g.stats.memory_bytes);
   // Features: the material types in use, by their names, and the background.
   EXPECT_EQ(j["features"]["diffuse"], true);
   EXPECT_EQ(j["features"]["specular"], true);
