@@ -14,14 +14,19 @@ void expect_rect(const Rect& r, int x, int y, int w, int h) {
   EXPECT_EQ(r.h, h);
 }
 
+/// The area's scale, panel column and size in framebuffer pixels.
+void expect_area(const ImageArea& a, float to_fb, int panel_px, int w, int h) {
+  EXPECT_EQ(a.to_fb, to_fb);
+  EXPECT_EQ(a.panel_px, panel_px);
+  EXPECT_EQ(a.w, w);
+  EXPECT_EQ(a.h, h);
+}
+
 TEST(ImageArea, TheRenderIsLetterboxedRightOfThePanelColumn) {
   // 1000 x 800 window, no HiDPI, 360-unit panel column: a 640 x 800 area; a 320 x 240 render scales by 2 (the
   // width decides) and is centred vertically (GL y counts from the bottom).
   const ImageArea a = image_area(1000, 800, 1000, 360.0f, 320, 240);
-  EXPECT_EQ(a.to_fb, 1.0f);
-  EXPECT_EQ(a.panel_px, 360);
-  EXPECT_EQ(a.w, 640);
-  EXPECT_EQ(a.h, 800);
+  expect_area(a, 1.0f, 360, 640, 800);
   expect_rect(a.rect, 360, 160, 640, 480);
   // A tall render: the height decides and it is centred horizontally in the area.
   expect_rect(image_area(1000, 800, 1000, 360.0f, 100, 400).rect, 360 + 220, 0, 200, 800);
@@ -30,10 +35,7 @@ TEST(ImageArea, TheRenderIsLetterboxedRightOfThePanelColumn) {
 TEST(ImageArea, HiDpiFramebuffersScaleThePanelAndTheArea) {
   // Two framebuffer pixels per window unit.
   const ImageArea a = image_area(2000, 1600, 1000, 360.0f, 320, 240);
-  EXPECT_EQ(a.to_fb, 2.0f);
-  EXPECT_EQ(a.panel_px, 720);
-  EXPECT_EQ(a.w, 1280);
-  EXPECT_EQ(a.h, 1600);
+  expect_area(a, 2.0f, 720, 1280, 1600);
   expect_rect(a.rect, 720, 320, 1280, 960);
 }
 
@@ -68,9 +70,7 @@ TEST(ImageArea, AnOddMarginIsCountedFromTheTopOfTheWindow) {
 TEST(ImageArea, AMinimisedWindowHasAnAreaButNoPixelToPick) {
   // glfwGetFramebufferSize gives 0 x 0 for an iconified window: the area stays at least a pixel and nothing breaks.
   const ImageArea a = image_area(0, 0, 0, 360.0f, 320, 240);
-  EXPECT_EQ(a.to_fb, 1.0f);
-  EXPECT_GE(a.w, 1);
-  EXPECT_GE(a.h, 1);
+  expect_area(a, 1.0f, 360, 1, 1);
   EXPECT_FALSE(render_pixel_at(a, 0.0, 0.0, 320, 240));
   const ImageArea none{};  // no rectangle yet: no division by its zero width
   EXPECT_FALSE(render_pixel_at(none, 0.0, 0.0, 320, 240));
