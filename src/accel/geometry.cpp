@@ -14,7 +14,7 @@ void fill_spheres(TraceGeometry& g, std::span<const SphereShape> spheres) {
   g.spheres.resize(g.sphere_bvh.prim_indices.size());
   for (size_t k = 0; k < g.spheres.size(); ++k) {
     const uint32_t i = g.sphere_bvh.prim_indices[k];
-    g.spheres[k] = {spheres[i].center, spheres[i].radius, g.triangle_count + i};
+    g.spheres[k] = {{spheres[i].center, spheres[i].radius}, g.triangle_count + i};
   }
 }
 

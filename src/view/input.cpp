@@ -31,6 +31,28 @@ std::optional<ivec2> render_pixel_at(const ImageArea& area, double mx, double my
   return ivec2(int(px), int(py));
 }
 
+double divider_window_x(const ImageArea& area, float divider) {
+  return (area.rect.x + double(divider) * area.rect.w) / area.to_fb;
+}
+
+float divider_at(const ImageArea& area, double mx) {
+  return area.rect.w > 0 ? float((mx * area.to_fb - area.rect.x) / area.rect.w) : 0.5f;
+}
+
+bool grabs_divider(const ImageArea& area, float divider, double mx) {
+  return std::abs(mx - divider_window_x(area, divider)) <= 6.0;
+}
+
+bool drag_divider(GLFWwindow* window, ViewerState& st, const ImageArea& area, bool ui_mouse, bool& dragging) {
+  if (!st.compare) return dragging = false;
+  if (glfwGetMouseButton(window, GLFW_MOUSE_BUTTON_LEFT) != GLFW_PRESS) return dragging = false;
+  double mx, my;
+  glfwGetCursorPos(window, &mx, &my);
+  if (!dragging && !ui_mouse && grabs_divider(area, st.divider, mx)) dragging = true;
+  if (dragging && area.rect.w > 0) st.apply(DividerEdit{divider_at(area, mx)});
+  return dragging;
+}
+
 bool process_input(GLFWwindow* window, InputState& in, ViewerState& st, const ImageArea& area, double dt,
                    bool ui_mouse, bool ui_keyboard) {
   for (const std::string& path : in.dropped) st.start_load(path);

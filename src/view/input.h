@@ -38,6 +38,17 @@ ImageArea image_area(int fb_w, int fb_h, int win_w, float panel_w, int render_w,
 /// click picks.
 std::optional<ivec2> render_pixel_at(const ImageArea& area, double mx, double my, int render_w, int render_h);
 
+/// The A/B compare divider at `divider` (a fraction of the image width) as a window x (GLFW cursor units), and
+/// back: the divider a cursor at window x puts there (unclamped; DividerEdit clamps it to [0, 1]).
+double divider_window_x(const ImageArea& area, float divider);
+float divider_at(const ImageArea& area, double mx);
+/// Whether a press at window x grabs the divider: within 6 window units of it, whatever the framebuffer scale.
+bool grabs_divider(const ImageArea& area, float divider, double mx);
+
+/// Drags the compare divider: a press that grabs it takes the mouse (no orbit) until release. `dragging` carries
+/// the drag from frame to frame. Returns true while the divider has the mouse.
+bool drag_divider(GLFWwindow* window, ViewerState& st, const ImageArea& area, bool ui_mouse, bool& dragging);
+
 /// Handles this UI frame's input. `ui_mouse`/`ui_keyboard`: ImGui wants them. Returns true when a click picked
 /// something (the Material panel then opens).
 bool process_input(GLFWwindow* window, InputState& in, ViewerState& st, const ImageArea& area, double dt,

@@ -147,20 +147,6 @@ void fetch_frame_b(ViewerState& st, GlDisplay& gl, Image& shown, bool& heat, boo
   }
 }
 
-/// Drags the compare divider: a press within a few pixels of it takes the mouse (no orbit) until release.
-/// Returns true while the divider has the mouse.
-bool drag_divider(GLFWwindow* window, ViewerState& st, const ImageArea& area, bool ui_mouse, bool& dragging) {
-  if (!st.compare) return dragging = false;
-  double mx, my;
-  glfwGetCursorPos(window, &mx, &my);
-  const double fx = mx * area.to_fb, line = area.rect.x + st.divider * area.rect.w;
-  bool down = glfwGetMouseButton(window, GLFW_MOUSE_BUTTON_LEFT) == GLFW_PRESS;
-  if (!down) return dragging = false;
-  if (!dragging && !ui_mouse && std::abs(fx - line) <= 6.0 * area.to_fb) dragging = true;
-  if (dragging && area.rect.w > 0) st.apply(DividerEdit{float((fx - area.rect.x) / area.rect.w)});
-  return dragging;
-}
-
 /// The heatmap's legend: a colour bar with values at the bottom right of the image area, right of the panels
 /// (usually in the letterbox margin below the image; ImGui coordinates).
 void draw_legend(const HeatLegend& legend, float area_x0, float x1, float y1) {
@@ -296,7 +282,7 @@ int run_viewer(const RenderParams& params, const DisplaySettings& display, const
     draw_panels(st, panels, float(kPanelWidth) * xscale, float(wh));
     if (st.compare) {
       ImDrawList* dl = ImGui::GetForegroundDrawList();
-      const float x = (area.rect.x + st.divider * area.rect.w) / area.to_fb;
+      const float x = float(divider_window_x(area, st.divider));
       const float top = float(fb_h - area.rect.y - area.rect.h) / area.to_fb, bottom = float(fb_h - area.rect.y) / area.to_fb;
       dl->AddLine(ImVec2(x, top), ImVec2(x, bottom), IM_COL32(255, 255, 255, 220), 2.0f);
       dl->AddText(ImVec2(x - 16, top + 4), IM_COL32_WHITE, "A");

@@ -76,5 +76,35 @@ TEST(ImageArea, AMinimisedWindowHasAnAreaButNoPixelToPick) {
   EXPECT_FALSE(render_pixel_at(none, 0.0, 0.0, 320, 240));
 }
 
+TEST(ImageArea, TheDividerFollowsTheCursorAcrossTheImage) {
+  // The HiDPI area of the tests above: the image spans window x 360 to 360 + 640.
+  const ImageArea a = image_area(2000, 1600, 1000, 360.0f, 320, 240);
+  EXPECT_DOUBLE_EQ(divider_window_x(a, 0.0f), 360.0);
+  EXPECT_DOUBLE_EQ(divider_window_x(a, 0.25f), 360.0 + 160.0);
+  EXPECT_DOUBLE_EQ(divider_window_x(a, 1.0f), 1000.0);
+  EXPECT_FLOAT_EQ(divider_at(a, 360.0 + 160.0), 0.25f);
+  EXPECT_FLOAT_EQ(divider_at(a, 360.0 + 480.0), 0.75f);
+  EXPECT_LT(divider_at(a, 300.0), 0.0f) << "unclamped left of the image (DividerEdit clamps)";
+  // A letterboxed wide render in a plain window: the divider is a fraction of the image, not of the area.
+  const ImageArea b = image_area(1000, 800, 1000, 360.0f, 100, 400);  // image at x 580 to 780
+  EXPECT_DOUBLE_EQ(divider_window_x(b, 0.5f), 680.0);
+  EXPECT_FLOAT_EQ(divider_at(b, 630.0), 0.25f);
+  EXPECT_FLOAT_EQ(divider_at(ImageArea{}, 10.0), 0.5f) << "no image yet: no division by its zero width";
+}
+
+TEST(ImageArea, APressGrabsTheDividerWithinSixWindowUnits) {
+  for (const int scale : {1, 2}) {
+    const ImageArea a = image_area(1000 * scale, 800 * scale, 1000, 360.0f, 320, 240);
+    const double line = divider_window_x(a, 0.5f);  // 680 at either scale
+    EXPECT_DOUBLE_EQ(line, 680.0);
+    EXPECT_TRUE(grabs_divider(a, 0.5f, line));
+    EXPECT_TRUE(grabs_divider(a, 0.5f, line - 6.0));
+    EXPECT_TRUE(grabs_divider(a, 0.5f, line + 6.0));
+    EXPECT_FALSE(grabs_divider(a, 0.5f, line - 6.5)) << scale;
+    EXPECT_FALSE(grabs_divider(a, 0.5f, line + 6.5)) << scale;
+    EXPECT_FALSE(grabs_divider(a, 0.25f, line));
+  }
+}
+
 }  // namespace
 }  // namespace pt

@@ -53,7 +53,7 @@ constexpr int kTagPost = 11, kTagResult = 12, kTagBye = 13;
 /// MPI_Improbe and received with MPI_Imrecv into a buffer of their size, so rank 0 never waits for one.
 class MpiOffloadChannel final : public OffloadChannel {
  public:
-  MpiOffloadChannel(int rank, int size) : rank_(rank), size_(size) {}
+  explicit MpiOffloadChannel(int size) : size_(size) {}
   ~MpiOffloadChannel() override {
     for (Pending& p : sends_) MPI_Wait(&p.request, MPI_STATUS_IGNORE);
     for (Pending& p : recvs_) MPI_Wait(&p.request, MPI_STATUS_IGNORE);
@@ -163,7 +163,7 @@ class MpiOffloadChannel final : public OffloadChannel {
     return out;
   }
 
-  int rank_, size_;
+  int size_;
   std::vector<Pending> sends_, recvs_;
 };
 
@@ -200,7 +200,7 @@ class MpiCluster final : public Cluster {
   }
   double comm_ms() const override { return comm_ms_; }
   std::unique_ptr<OffloadChannel> offload_channel() override {
-    return size_ > 1 ? std::make_unique<MpiOffloadChannel>(rank_, size_) : nullptr;
+    return size_ > 1 ? std::make_unique<MpiOffloadChannel>(size_) : nullptr;
   }
 
   bool any(bool mine) override {
