@@ -2,8 +2,9 @@
 /// An 8-wide BVH over triangles, collapsed from the binary SAH tree, with SIMD node tests and 4-triangle leaf
 /// blocks (the layout of Embree's BVH8, Wald et al. 2014, "Embree: a kernel framework for efficient CPU ray
 /// tracing"), collapsed from the binary tree by the SAH-optimal dynamic program of Ylitie, Karras and Laine 2017
-/// ("Efficient incoherent ray traversal on GPUs through compressed wide BVHs"). One node test checks a ray against 8 boxes at once, so a ray visits about a third as many nodes as
-/// in the binary tree, and each visit is a few AVX instructions.
+/// ("Efficient incoherent ray traversal on GPUs through compressed wide BVHs"). One node test checks a ray against 8
+/// boxes at once, so a ray visits about a third as many nodes as in the binary tree, and each visit is a few AVX
+/// instructions.
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
@@ -102,9 +103,10 @@ struct Bvh8 {
 /// Collapses `binary` (built over the triangles; triangle i is vertices 3i..3i+2) into an 8-wide tree: the cut into
 /// wide nodes and leaves (of up to 16 triangles, ceil(count / 4) blocks) that minimizes the SAH cost of the wide
 /// tree. Measured against the greedy collapse (open the largest child until 8): half the nodes on the 1M knot and
-/// 8-12% faster rays there; on the bunny diffuse and primary rays 2-5% faster, shadow rays up to 8% slower. Throws std::length_error beyond kMaxArenaUnits (16 GiB of tree, about 250M
-/// triangles: more than memory allows anyway), as std::vector throws std::bad_alloc. The leaf blocks are filled
-/// on up to `threads` threads; the result does not depend on the count.
+/// 8-12% faster rays there; on the bunny diffuse and primary rays 2-5% faster, shadow rays up to 8% slower. Throws
+/// std::length_error beyond kMaxArenaUnits (16 GiB of tree, about 250M triangles: more than memory allows anyway), as
+/// std::vector throws std::bad_alloc. The leaf blocks are filled on up to `threads` threads; the result does not depend
+/// on the count.
 Bvh8 make_bvh8(const Bvh& binary, std::span<const vec3> triangle_vertices, int threads = 1);
 
 /// Rewrites the triangle data and all boxes after the vertices moved, keeping the topology.
@@ -153,7 +155,8 @@ inline NodeRay make_node_ray(const Ray& ray) {
 /// Tests the ray against the 8 boxes of `node` for t in [0, tmax]; returns a bit mask of the boxes hit and their
 /// entry distances in `tnear`. Robust as intersect_box (Ize 2013): tmax is scaled by 1 + 2 gamma(3), far
 /// distances by kFarScale (NodeRay), and NaN (0 * inf) distances leave the interval as it was; it never misses a box
-/// intersect_box hits. The scalar version is the reference the SIMD one (AVX, or two SSE halves) must equal bit for bit.
+/// intersect_box hits. The scalar version is the reference the SIMD one (AVX, or two SSE halves) must equal bit for
+/// bit.
 uint32_t intersect_node8_scalar(const Bvh8Node& node, const NodeRay& ray, float tmax, float tnear[8]);
 uint32_t intersect_node8(const Bvh8Node& node, const NodeRay& ray, float tmax, float tnear[8]);
 

@@ -109,7 +109,10 @@ struct Builder {
   int threads = 1;  ///< build threads (set by build)
 
   Builder(std::span<PrimRef> r, const BvhBuildOptions& o)
-      : refs(r), options(o), max_bins(std::clamp(o.bins, 2, kMaxBins)), max_leaf(uint32_t(std::max(1, o.max_leaf_size))) {
+      : refs(r),
+        options(o),
+        max_bins(std::clamp(o.bins, 2, kMaxBins)),
+        max_leaf(uint32_t(std::max(1, o.max_leaf_size))) {
     const uint32_t block = uint32_t(sah_leaf_tests(1, o));
     block_mask = std::has_single_bit(block) ? block - 1 : 0;
   }
@@ -225,7 +228,9 @@ struct Builder {
       n = _mm_add_epi32(n, counts(b));
       const __m128 cost = _mm_add_ps(_mm_mul_ps(half_areas(ax, ay, az), blocks4(n)), right_cost[b]);
       // 0 < n < count (counts are far below 2^31, so signed compares are exact)
-      const __m128i usable = _mm_and_si128(_mm_and_si128(axes, xyz), _mm_andnot_si128(_mm_cmpeq_epi32(n, _mm_setzero_si128()), _mm_cmplt_epi32(n, total)));
+      const __m128i usable =
+          _mm_and_si128(_mm_and_si128(axes, xyz),
+                        _mm_andnot_si128(_mm_cmpeq_epi32(n, _mm_setzero_si128()), _mm_cmplt_epi32(n, total)));
       const __m128 better = _mm_and_ps(_mm_castsi128_ps(usable), _mm_cmplt_ps(cost, best_cost));
       best_cost = _mm_or_ps(_mm_and_ps(better, cost), _mm_andnot_ps(better, best_cost));  // SSE2 select
       const __m128i take = _mm_castps_si128(better);

@@ -40,12 +40,13 @@ struct TriangleHit {
 
 /// Whether a hit whose float t is within its rounding bound `delta_t` of 0 is in front of the origin, decided by
 /// recomputing t in double from the same float inputs (vertices, origin and the ray's shear). The hit keeps its
-/// float t (at least the smallest positive float), so the scalar and the 4-lane tests still agree bit for bit. The float test alone rejects such hits (pbrt-v4 section 6.8.4), which is right
-/// for the triangle a ray was spawned from, but a ray leaving a surface at a grazing angle near an edge meets the
-/// neighbouring triangle a little further on, where 1/det makes delta_t large: rejecting that hit let the ray
-/// pass through the closed surface (issue 13: light seen from inside a closed mesh). In double the same error
-/// bound is 2^-29 of delta_t; 2^-28 leaves a margin. The spawning triangle's true t is negative by the spawn
-/// offset over the cosine, far beyond that bound, so it stays rejected.
+/// float t (at least the smallest positive float), so the scalar and the 4-lane tests still agree bit for bit. The
+/// float test alone rejects such hits (pbrt-v4 section 6.8.4), which is right for the triangle a ray was spawned from,
+/// but a ray leaving a surface at a grazing angle near an edge meets the neighbouring triangle a little further on,
+/// where 1/det makes delta_t large: rejecting that hit let the ray pass through the closed surface (issue 13: light
+/// seen from inside a closed mesh). In double the same error bound is 2^-29 of delta_t; 2^-28 leaves a margin. The
+/// spawning triangle's true t is negative by the spawn offset over the cosine, far beyond that bound, so it stays
+/// rejected.
 inline bool small_t_is_positive(const WatertightRay& w, vec3 p0, vec3 p1, vec3 p2, float delta_t, float det_f) {
   const dvec3 o(w.org);
   const dvec3 a = dvec3(p0) - o, b = dvec3(p1) - o, c = dvec3(p2) - o;

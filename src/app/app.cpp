@@ -36,7 +36,8 @@ int run_app(int argc, const char* const* argv) {
   if (!scene) {
     load_error = scene.error();
     // Every rank reads the scene itself; a file only rank 0's machine has is the usual cluster mistake.
-    if (cluster->ranks() > 1) load_error += " (every MPI rank loads the scene: it must exist at this path on every node)";
+    if (cluster->ranks() > 1)
+      load_error += " (every MPI rank loads the scene: it must exist at this path on every node)";
   }
   const double load_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - load_start).count();

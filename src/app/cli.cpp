@@ -51,7 +51,8 @@ ParseOutcome parse_command_line(int argc, const char* const* argv) {
   int frames = 0;
   double time_limit = 0;
   std::string seed = "0";
-  app.add_option("scene", o.scene_path, "Scene file: .obj (materials from its .mtl), .json, .gltf or .glb; omitted: built-in scene");
+  app.add_option("scene", o.scene_path,
+                 "Scene file: .obj (materials from its .mtl), .json, .gltf or .glb; omitted: built-in scene");
   auto* frames_opt = app.add_option("--frames", frames, "Headless: render N progressive frames, write --out, exit");
   app.add_option("--spp-per-frame", o.render.spp_per_frame, "Samples per pixel added each frame (default 1)");
   auto* size_opt = app.add_option("--size", size, "Image size WxH (default 512x512; the viewer follows the window)");
@@ -64,7 +65,8 @@ ParseOutcome parse_command_line(int argc, const char* const* argv) {
                  "auto (default: solid angle where it pays, per scene and point), solid-angle or area");
   app.add_option("--sampler", sampler, "sobol (default: Owen-scrambled Sobol) or independent");
   app.add_option("--stats-json", o.stats_json, "Write run statistics as JSON");
-  app.add_option("--reference", o.reference, "Reference image (.pfm/.exr) for --error-csv; viewer: true relMSE and the reference-error display");
+  app.add_option("--reference", o.reference,
+                 "Reference image (.pfm/.exr) for --error-csv; viewer: true relMSE and the reference-error display");
   app.add_option("--error-csv", o.error_csv, "After every frame append frame,spp,seconds,rmse,rel_mse,est_rel_mse");
   app.add_option("--error-map", o.error_map, "Headless: write the per-pixel relative standard error (.pfm/.exr)");
   app.add_option("--spp-map", o.spp_map, "Headless: write the samples each pixel received (.pfm/.exr)");
@@ -139,7 +141,8 @@ ParseOutcome parse_command_line(int argc, const char* const* argv) {
   if (!std::isfinite(o.display.exposure) || std::abs(o.display.exposure) > 64)
     return fail("--exposure: must be a finite number of stops from -64 to 64");
   if (time_opt->count()) {
-    if (!(time_limit > 0) || !std::isfinite(time_limit)) return fail("--time-limit: must be a positive number of seconds");
+    if (!(time_limit > 0) || !std::isfinite(time_limit))
+      return fail("--time-limit: must be a positive number of seconds");
     o.time_limit = time_limit;
   }
   if (threshold_opt->count()) {
@@ -167,7 +170,8 @@ ParseOutcome parse_command_line(int argc, const char* const* argv) {
   }
   o.out_given = out_opt->count() > 0;
   if (!o.out_given) o.out = "ptview.png";
-  if (!is_supported_image_extension(o.out)) return fail("--out: unsupported image type '" + o.out + "' (use .png, .pfm or .exr)");
+  if (!is_supported_image_extension(o.out))
+    return fail("--out: unsupported image type '" + o.out + "' (use .png, .pfm or .exr)");
   if (o.out_given) {
     if (std::string err = check_output_dir("--out", o.out); !err.empty()) return fail(err);
   }

@@ -329,7 +329,8 @@ int run_headless(const AppOptions& options, const Scene& scene, Cluster& cluster
     }
   }
   if (!options.stats_json.empty()) {
-    if (auto err = write_file_atomic(options.stats_json, make_stats_json(options.render, scene, rs, run).dump(2) + "\n")) {
+    if (auto err =
+            write_file_atomic(options.stats_json, make_stats_json(options.render, scene, rs, run).dump(2) + "\n")) {
       std::fprintf(stderr, "ptview: error: %s\n", err->message.c_str());
       code = 2;
     }

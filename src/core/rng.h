@@ -43,7 +43,9 @@ inline uint64_t mix_bits(uint64_t v) {
   return v;
 }
 
-inline uint64_t hash_combine(uint64_t a, uint64_t b) { return mix_bits(a ^ (mix_bits(b) + 0x9e3779b97f4a7c15ULL + (a << 6) + (a >> 2))); }
+inline uint64_t hash_combine(uint64_t a, uint64_t b) {
+  return mix_bits(a ^ (mix_bits(b) + 0x9e3779b97f4a7c15ULL + (a << 6) + (a >> 2)));
+}
 
 /// The generator for one pixel sample: a function of (seed, pixel, sample index) only.
 inline Pcg32 make_sample_rng(uint64_t seed, uint64_t pixel_index, uint64_t sample_index) {

@@ -76,7 +76,8 @@ bool make_spherical_rectangle(vec3 ref, const RectangleFrame& rect, SphericalRec
   // q > 0, so a pair's sum lies in (-pi, pi) and one atan2 gives it. The lengths are scaled to at most 1 first,
   // so the products of four lengths neither overflow nor underflow (the angles do not depend on the scale).
   const float h = -z0;
-  const float longest = std::max(std::max(std::max(std::abs(x0), std::abs(x1)), std::max(std::abs(y0), std::abs(y1))), h);
+  const float longest =
+      std::max(std::max(std::max(std::abs(x0), std::abs(x1)), std::max(std::abs(y0), std::abs(y1))), h);
   if (!(longest < 0x1p126f)) return false;  // NaN or beyond the scale factor's range
   const float scale = inverse_power_of_two(longest);
   const float sh = h * scale, sh2 = sh * sh;

@@ -87,10 +87,10 @@ bool finish_planar(const Light& light, vec3 ref, vec3 p, vec3 p_error, LightSamp
 /// Whether uniform area sampling of a rectangle is far from the solid-angle density at `ref`: whether the ratio of
 /// its largest to smallest solid-angle density over the rectangle (its spread) is at least k. That density is
 /// A cos(theta_l) / r^2 = A h / r^3 for a receiver at height h above the light's plane, so the ratio is
-/// (r_max / r_min)^3, with r_max at a corner and r_min at the point of the rectangle nearest to ref. Where it is near 1, area sampling already has the spherical
-/// rectangle's density (which is constant) at a tenth of its cost.
-/// It runs for every light sample under LightSampling::automatic, so it is written without divisions or roots:
-/// spread >= k is (r_max^2 / r_min^2)^(3/2) >= k, that is (r_max^2)^3 >= k^2 (r_min^2)^3, compared in double.
+/// (r_max / r_min)^3, with r_max at a corner and r_min at the point of the rectangle nearest to ref. Where it is near
+/// 1, area sampling already has the spherical rectangle's density (which is constant) at a tenth of its cost. It runs
+/// for every light sample under LightSampling::automatic, so it is written without divisions or roots: spread >= k is
+/// (r_max^2 / r_min^2)^(3/2) >= k, that is (r_max^2)^3 >= k^2 (r_min^2)^3, compared in double.
 bool rect_area_density_spreads(const Light& light, vec3 ref, float k) {
   vec3 d = ref - light.p0;
   // ref's projection in the rectangle's edge coordinates (in [0, 1] over the rectangle)

@@ -25,7 +25,8 @@ bool parallelogram_of(const vec3* a, const vec3* b, vec3& corner, vec3& e1, vec3
   const vec3 s0 = a[shared_a[0]], s1 = a[shared_a[1]];
   const vec3 na = glm::cross(a[1] - a[0], a[2] - a[0]), nb = glm::cross(b[1] - b[0], b[2] - b[0]);
   if (!(glm::dot(na, nb) > 0.0f)) return false;
-  const float scale = max_component(glm::abs(ua - s0)) + max_component(glm::abs(ub - s0)) + max_component(glm::abs(s1 - s0));
+  const float scale =
+      max_component(glm::abs(ua - s0)) + max_component(glm::abs(ub - s0)) + max_component(glm::abs(s1 - s0));
   if (!(max_component(glm::abs((ua + ub) - (s0 + s1))) <= 1e-6f * scale)) return false;
   corner = s0;
   e1 = ua - s0;
@@ -257,7 +258,8 @@ std::shared_ptr<const RenderGeometry> refit_render_geometry(const RenderGeometry
   }
   for (const Quad& q : scene.quads)
     for (vec3 p : quad_triangles(q, o)) *v++ = p;
-  for (size_t s = 0; s < scene.spheres.size(); ++s) g.spheres[s] = {scene.spheres[s].center - o, scene.spheres[s].radius};
+  for (size_t s = 0; s < scene.spheres.size(); ++s)
+    g.spheres[s] = {scene.spheres[s].center - o, scene.spheres[s].radius};
   apply_scale(g);  // the build's scale, so a refit equals a rebuild
   compute_triangle_shading(g);
   refit_trace_geometry(g.trace, g.tri_vertices, g.spheres);

@@ -451,7 +451,8 @@ class MaterialMapper {
   /// approximation.
   vec3 texture_mean(int index, const std::string& mname, const char* which, std::vector<std::string>& notes) const {
     if (index < 0) return vec3(1.0f);
-    if (size_t(index) >= m_.textures.size()) fail(mname + ": " + which + " texture " + std::to_string(index) + " out of range");
+    if (size_t(index) >= m_.textures.size())
+      fail(mname + ": " + which + " texture " + std::to_string(index) + " out of range");
     int image = m_.textures[size_t(index)].source;
     if (auto it = means_.mean.find(image); it != means_.mean.end()) {
       notes.push_back(std::string(which) + " texture as its mean colour " + triple(it->second));
@@ -544,7 +545,8 @@ std::vector<Instance> walk_nodes(const tinygltf::Model& model, const std::vector
   return out;
 }
 
-std::vector<int> scene_roots(const tinygltf::Model& model, std::vector<std::string>& warnings, const std::string& path) {
+std::vector<int> scene_roots(const tinygltf::Model& model, std::vector<std::string>& warnings,
+                             const std::string& path) {
   if (model.scenes.empty()) {  // no scene: every node that is nobody's child
     std::vector<bool> child(model.nodes.size(), false);
     for (const tinygltf::Node& n : model.nodes)
@@ -571,7 +573,8 @@ std::optional<Camera> node_camera(const tinygltf::Camera& c, const dmat4& world)
   if (!(yfov > 0.0 && yfov < glm::pi<double>())) return std::nullopt;
   dvec3 eye(world[3]), forward(world * dvec4(0, 0, -1, 0)), up(world * dvec4(0, 1, 0, 0));
   double fl = glm::length(forward), ul = glm::length(up);
-  if (!is_finite(vec3(eye)) || !(fl > 0.0) || !std::isfinite(fl) || !(ul > 0.0) || !std::isfinite(ul)) return std::nullopt;
+  if (!is_finite(vec3(eye)) || !(fl > 0.0) || !std::isfinite(fl) || !(ul > 0.0) || !std::isfinite(ul))
+    return std::nullopt;
   forward /= fl;
   up /= ul;
   if (!(glm::length(glm::cross(forward, up)) > 1e-6)) return std::nullopt;
@@ -674,7 +677,8 @@ GltfData read_model(const std::string& path, bool use_materials) {
     if (size_t(node.mesh) >= model.meshes.size())
       fail(name_of("node", inst.node, node.name) + ": mesh " + std::to_string(node.mesh) + " out of range");
     auto it = local.find(size_t(node.mesh));
-    if (it == local.end()) it = local.emplace(size_t(node.mesh), read_mesh(model, size_t(node.mesh), reader, warnings, path)).first;
+    if (it == local.end())
+      it = local.emplace(size_t(node.mesh), read_mesh(model, size_t(node.mesh), reader, warnings, path)).first;
     const LocalMesh& lm = it->second;
     triangles_read += lm.triangles.size();
     if (triangles_read > kMaxTriangles)

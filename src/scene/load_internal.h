@@ -149,8 +149,8 @@ inline bool parse_integer(std::string_view s, long long& out) {
 /// one with a taken name is renamed "NAME#2", "NAME#3", ...
 uint32_t add_material(Scene& scene, Material m);
 
-/// A triangle mesh read from an OBJ file with its MTL materials (or from a glTF, see GltfData). Mesh::materials index into `materials`, which
-/// holds only the materials some face uses.
+/// A triangle mesh read from an OBJ file with its MTL materials (or from a glTF, see GltfData). Mesh::materials index
+/// into `materials`, which holds only the materials some face uses.
 struct ObjData {
   Mesh mesh;
   std::vector<Material> materials;

@@ -197,7 +197,8 @@ class SceneBuilder {
     if (auto type = n.get("type")) {
       std::string t = type->string();
       std::optional<MaterialType> v = value_of<MaterialType>(kMaterialTypeNames, t);
-      if (!v) type->fail("unknown material type '" + t + "' (expected " + names_list<MaterialType>(kMaterialTypeNames) + ")");
+      if (!v)
+        type->fail("unknown material type '" + t + "' (expected " + names_list<MaterialType>(kMaterialTypeNames) + ")");
       m.type = *v;
     }
     if (auto albedo = n.get("albedo")) {

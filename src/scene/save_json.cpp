@@ -67,7 +67,9 @@ void mesh_obj(const Scene& s, const Mesh& mesh, const std::string& mtl_name, std
     if (!used[m]) continue;
     const Material& mat = s.materials[m];
     mtl += "newmtl " + material_name(s, m) + "\n";
-    auto rgb = [&](const char* key, vec3 v) { mtl += std::string(key) + " " + fmt(v.x) + " " + fmt(v.y) + " " + fmt(v.z) + "\n"; };
+    auto rgb = [&](const char* key, vec3 v) {
+      mtl += std::string(key) + " " + fmt(v.x) + " " + fmt(v.y) + " " + fmt(v.z) + "\n";
+    };
     if (mat.type == MaterialType::specular) {
       mtl += "illum 3\n";
       rgb("Ks", mat.albedo);
@@ -107,7 +109,8 @@ std::optional<Error> save_scene_json(const Scene& s, const std::vector<Material>
       std::error_code ec;
       fs::path rel = fs::relative(mesh.source.file, fs::absolute(dir, ec), ec);
       shape["file"] = ec || rel.empty() ? mesh.source.file : rel.generic_string();
-      if (!mesh.source.file_materials && !mesh.materials.empty()) shape["material"] = material_name(s, mesh.materials[0]);
+      if (!mesh.source.file_materials && !mesh.materials.empty())
+        shape["material"] = material_name(s, mesh.materials[0]);
       const MeshSource& src = mesh.source;
       shape["transform"] = {{"scale", vec(src.scale)},
                             {"rotate", {src.axis.x, src.axis.y, src.axis.z, src.degrees}},

@@ -283,7 +283,8 @@ int light_of_primitive(const Scene& scene, const std::vector<SceneLight>& lights
     if (prim < first + n) {
       for (size_t i = 0; i < lights.size(); ++i)
         if (lights[i].kind == SceneLightKind::triangles && lights[i].shape == m &&
-            std::find(lights[i].triangles.begin(), lights[i].triangles.end(), prim - first) != lights[i].triangles.end())
+            std::find(lights[i].triangles.begin(), lights[i].triangles.end(), prim - first) !=
+                lights[i].triangles.end())
           return int(i);
       return -1;
     }

@@ -128,7 +128,8 @@ std::optional<Error> save_framebuffer_png(const std::string& path, int w, int h)
   auto sink = [](void* ctx, void* data, int size) {
     static_cast<std::string*>(ctx)->append(static_cast<const char*>(data), size_t(size));
   };
-  if (!stbi_write_png_to_func(sink, &bytes, w, h, 3, flipped.data(), w * 3)) return Error{path + ": PNG encoding failed"};
+  if (!stbi_write_png_to_func(sink, &bytes, w, h, 3, flipped.data(), w * 3))
+    return Error{path + ": PNG encoding failed"};
   return write_file_atomic(path, bytes);
 }
 

@@ -314,7 +314,8 @@ int run_offload_worker(OffloadChannel& channel, int rank, int threads) {
       if (done) {
         frames += pass_frames;
         seconds += std::chrono::duration<double>(Clock::now() - job_start).count();
-        if (frames == 1 || std::chrono::duration<double>(Clock::now() - last_send).count() >= send_interval_seconds(film)) {
+        if (frames == 1 ||
+            std::chrono::duration<double>(Clock::now() - last_send).count() >= send_interval_seconds(film)) {
           if (channel.send_result(encode_offload_result(epoch, rank, frames * params.spp_per_frame, seconds, film)))
             last_send = Clock::now();
         }

@@ -115,7 +115,8 @@ void camera_panel(ViewerState& st) {
 
 void material_panel(ViewerState& st) {
   if (st.scene.materials.empty()) return;
-  std::string current = st.selected_material >= 0 ? st.scene.materials[size_t(st.selected_material)].name : "(click the image)";
+  std::string current =
+      st.selected_material >= 0 ? st.scene.materials[size_t(st.selected_material)].name : "(click the image)";
   if (ImGui::BeginCombo("material", current.c_str())) {
     for (size_t i = 0; i < st.scene.materials.size(); ++i) {
       std::string label = st.scene.materials[i].name.empty() ? "#" + std::to_string(i) : st.scene.materials[i].name;
@@ -186,7 +187,8 @@ void scene_panel(ViewerState& st, PanelState& ps) {
   ImGui::TextDisabled("(or drop a file)");
   input_text("scene file", ps.scene_path);
   if (ImGui::Button("save scene")) st.save_scene(ps.scene_path);
-  if (ImGui::IsItemHovered()) ImGui::SetTooltip("a version-1 JSON of what the window shows: camera, materials, lights, meshes");
+  if (ImGui::IsItemHovered())
+    ImGui::SetTooltip("a version-1 JSON of what the window shows: camera, materials, lights, meshes");
   if (st.loading.valid() && st.load_progress) {
     const LoadProgress& lp = *st.load_progress;
     double s = std::chrono::duration<double>(Clock::now() - lp.started).count();
@@ -199,8 +201,8 @@ void scene_panel(ViewerState& st, PanelState& ps) {
   }
   if (st.render_scene) {
     const TraceGeometry& t = st.render_scene->trace();
-    ImGui::Text("triangles %u  spheres %zu  lights %zu", st.render_scene->triangle_count(), st.render_scene->geo->spheres.size(),
-                st.lights.size());
+    ImGui::Text("triangles %u  spheres %zu  lights %zu", st.render_scene->triangle_count(),
+                st.render_scene->geo->spheres.size(), st.lights.size());
     ImGui::Text("BVH8 nodes %zu  blocks %zu  build %.1f ms", t.triangles.node_count, t.triangles.block_count,
                 t.stats.build_ms);
   }
@@ -246,7 +248,8 @@ void convergence_stats(const ViewerState& st) {
     char overlay[64];
     std::snprintf(overlay, sizeof overlay, "log10 relMSE vs log10 t (%.2g..%.2g s)", hist.front().first,
                   hist.back().first);
-    ImGui::PlotLines("##error", values, kPoints, 0, overlay, FLT_MAX, FLT_MAX, ImVec2(ImGui::GetContentRegionAvail().x, 70));
+    ImGui::PlotLines("##error", values, kPoints, 0, overlay, FLT_MAX, FLT_MAX,
+                     ImVec2(ImGui::GetContentRegionAvail().x, 70));
   }
   if (st.adaptive.enabled() && std::isfinite(f.est_rel_mse) && f.est_rel_mse > 0 && f.seconds > 0) {
     // relMSE falls as 1/t, and the threshold bounds each pixel's relative standard error, so the image is done
@@ -262,7 +265,8 @@ void convergence_stats(const ViewerState& st) {
 /// Equal-time A/B compare: B's settings (a CompareEdit: both restart) and each side's figures.
 void compare_panel(ViewerState& st) {
   bool on = st.compare.has_value();
-  CompareConfig c = st.compare.value_or(CompareConfig{st.params.integrator, st.params.light_sampling, st.params.sampler, {}});
+  CompareConfig c =
+      st.compare.value_or(CompareConfig{st.params.integrator, st.params.light_sampling, st.params.sampler, {}});
   bool changed = ImGui::Checkbox("compare A | B", &on);
   if (on) {
     changed |= name_combo<IntegratorKind>("B integrator", kIntegratorNames, c.integrator);
@@ -307,7 +311,8 @@ void compare_stats(const ViewerState& st) {
       ok ? ImGui::Text("%.3g", f[k]->est_rel_mse) : ImGui::TextDisabled("-");
     });
     if (st.reference)
-      row("true relMSE", [&](int k) { std::isfinite(rel[k]) ? ImGui::Text("%.3g", rel[k]) : ImGui::TextDisabled("-"); });
+      row("true relMSE",
+          [&](int k) { std::isfinite(rel[k]) ? ImGui::Text("%.3g", rel[k]) : ImGui::TextDisabled("-"); });
     ImGui::EndTable();
   }
   // Efficiency = 1 / (relMSE x time) (Veach's figure of merit); B/A > 1: B converges faster in equal time.

@@ -187,7 +187,8 @@ const ScriptCommandSpec kCommands[] = {
     {"light", "N", 1, 1, true, check_count,
      [](ScriptRun& r, ViewerState& st, const ScriptCommand& c) {
        int n = int(num(c, 0));
-       if (n >= int(st.lights.size())) fail(r, c, "light: the scene has " + std::to_string(st.lights.size()) + " light(s)");
+       if (n >= int(st.lights.size()))
+         fail(r, c, "light: the scene has " + std::to_string(st.lights.size()) + " light(s)");
        else st.selected_light = n;
        return ScriptStep::done;
      }},

@@ -283,7 +283,8 @@ int run_viewer(const RenderParams& params, const DisplaySettings& display, const
     if (st.compare) {
       ImDrawList* dl = ImGui::GetForegroundDrawList();
       const float x = float(divider_window_x(area, st.divider));
-      const float top = float(fb_h - area.rect.y - area.rect.h) / area.to_fb, bottom = float(fb_h - area.rect.y) / area.to_fb;
+      const float top = float(fb_h - area.rect.y - area.rect.h) / area.to_fb,
+                  bottom = float(fb_h - area.rect.y) / area.to_fb;
       dl->AddLine(ImVec2(x, top), ImVec2(x, bottom), IM_COL32(255, 255, 255, 220), 2.0f);
       dl->AddText(ImVec2(x - 16, top + 4), IM_COL32_WHITE, "A");
       dl->AddText(ImVec2(x + 8, top + 4), IM_COL32_WHITE, "B");

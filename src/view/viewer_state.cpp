@@ -158,7 +158,8 @@ Tier ViewerState::apply(const Edit& edit) {
       st.compare = e.b;
       if (st.session && !st.session_b) st.session_b = std::make_unique<RenderSession>(st.session->thread_count());
       if (st.session_b)
-        st.session_b->set_publish_maps(st.display_mode == DisplayMode::error || st.display_mode == DisplayMode::samples);
+        st.session_b->set_publish_maps(st.display_mode == DisplayMode::error ||
+                                       st.display_mode == DisplayMode::samples);
       st.frame_b = SessionFrame{};
       st.display_dirty = true;
       return Tier::camera;  // both sides start together
@@ -310,7 +311,8 @@ void ViewerState::note_frame() {
   if (error_history.size() > 4096) error_history.erase(error_history.begin(), error_history.begin() + 2048);
   bool comparable = reference && !frame.preview && frame.image.width == reference->width &&
                     frame.image.height == reference->height;
-  frame_rel_mse = comparable ? compare_images(frame.image, *reference).rel_mse : std::numeric_limits<double>::quiet_NaN();
+  frame_rel_mse =
+      comparable ? compare_images(frame.image, *reference).rel_mse : std::numeric_limits<double>::quiet_NaN();
 }
 
 

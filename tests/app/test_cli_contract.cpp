@@ -271,7 +271,9 @@ TEST(CliContract, OptionsWithValidValuesChangeWhatTheyClaimAndConverge) {
     EXPECT_LT(std::abs(mean_difference_z(img, base)), 6.0) << v.name;
     // What each claims, in the counters.
     const double shadow = stats["rays_by_kind"]["shadow"].get<double>();
-    if (v.name == "bsdf") EXPECT_EQ(shadow, 0.0) << "BSDF sampling only casts no shadow rays";
+    if (v.name == "bsdf") {
+      EXPECT_EQ(shadow, 0.0) << "BSDF sampling only casts no shadow rays";
+    }
     else EXPECT_GT(shadow, 0.0) << v.name;
   }
 }

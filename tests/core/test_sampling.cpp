@@ -355,7 +355,9 @@ TEST(Sampling, DiscreteDistributionKeepsItsInvariantsForAnyWeights) {
     for (size_t k = 0; k < n; ++k) {
       ASSERT_LE(d.cdf[k], d.cdf[k + 1]) << trial;
       ASSERT_TRUE(std::isfinite(d.pmf(k))) << trial;
-      if (any_positive && !(std::isfinite(w[k]) && w[k] > 0.0f)) ASSERT_EQ(d.pmf(k), 0.0f) << trial << " " << k;
+      if (any_positive && !(std::isfinite(w[k]) && w[k] > 0.0f)) {
+        ASSERT_EQ(d.pmf(k), 0.0f) << trial << " " << k;
+      }
     }
     std::vector<float> us = {-0.5f, -0.0f, 0.0f, kOneMinusEpsilon, 1.0f, 2.0f};
     for (float c : d.cdf) {

@@ -7,6 +7,11 @@ the file (also on an error or Ctrl-C). A mutation no test kills is a test that c
 close with a test, or an equivalent change (docs/BENCHMARKS.md, sixteenth and seventeenth rounds, says which).
 
   tests/mutation/mutate.py [--build DIR] [--only NAME_PREFIX ...] [--list FILE]
+  tests/mutation/mutate.py --check [--list FILE]
+
+--check builds and runs nothing: it checks that every entry still applies (its text found exactly once, a
+distinct first word, test executables that exist as tests/*/NAME.cpp). It is a ctest (MutationList.Check), so an
+edit that reformats a quoted line cannot leave the list stale unnoticed.
 
 Run from anywhere in a configured checkout (default build directory: build/). Files with uncommitted changes are
 skipped, so a run never loses work. Prints one line per mutation: KILLED by which tests (the count of failed test
@@ -50,16 +55,46 @@ def run_one(m, build, timeout):
         path.write_text(src)
 
 
+def check(mutations):
+    """The problems that would make entries skip or mislead, one line each; empty when the list is sound."""
+    problems, first_words = [], {}
+    tests = {p.stem for p in (ROOT / "tests").glob("*/test_*.cpp")}
+    for m in mutations:
+        name = m.get("name", "")
+        word = name.split()[0] if name.split() else ""
+        if word in first_words:
+            problems.append(f"{name}: first word '{word}' also names '{first_words[word]}'")
+        first_words.setdefault(word, name)
+        path = ROOT / m["file"]
+        count = path.read_text().count(m["old"]) if path.is_file() else -1
+        if count != 1:
+            problems.append(f"{name}: {m['file']}: the text is found {count} times, not once"
+                            if count >= 0 else f"{name}: {m['file']}: no such file")
+        if m["old"] == m["new"]:
+            problems.append(f"{name}: the replacement changes nothing")
+        missing = [t for t in m["tests"] if t not in tests]
+        if not m["tests"] or missing:
+            problems.append(f"{name}: no test executable {', '.join(missing) or '(none listed)'}")
+    return problems
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--build", default=str(ROOT / "build"), help="configured build directory (default build/)")
     ap.add_argument("--only", nargs="*", default=[], help="run the mutations whose names start with these")
     ap.add_argument("--list", default=str(pathlib.Path(__file__).with_name("mutations.json")))
+    ap.add_argument("--check", action="store_true", help="only check that every entry applies (see above)")
     ap.add_argument("--timeout", type=float, default=240.0, help="seconds per test executable (a hang kills)")
     args = ap.parse_args()
     mutations = json.loads(pathlib.Path(args.list).read_text())
     if args.only:
         mutations = [m for m in mutations if any(m["name"].startswith(p) for p in args.only)]
+    if args.check:
+        problems = check(mutations)
+        for p in problems:
+            print(p)
+        print(f"{len(mutations)} mutations, {len(problems)} problems")
+        return 1 if problems else 0
     survived = 0
     try:
         for m in mutations:

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include "core/rng.h"
+#include "core/sampling.h"
 #include "render/bsdf.h"
 
 namespace pt {
@@ -157,6 +158,45 @@ TEST(Mirror, ReflectsAboutTheNormalWithItsAlbedo) {
   EXPECT_NEAR(bs.wi.y, -sc.wo.y, 1e-6f);
   EXPECT_NEAR(bs.wi.z, sc.wo.z, 1e-6f);
   EXPECT_EQ(bs.weight, vec3(0.9f));
+}
+
+TEST(Delta, NoSampleLeavesOnTheWrongSideOfTheGeometricSurface) {
+  // Interpolated shading normals tilt away from the geometric one, so a reflection about n can point below the
+  // surface and a refraction above it. Such samples are refused (false), never returned: a reflection leaves above
+  // the geometric surface, a transmission below it, for the mirror and both of glass's lobes.
+  Material mirror, glass;
+  mirror.type = MaterialType::specular;
+  mirror.albedo = vec3(0.9f);
+  glass.type = MaterialType::glass;
+  glass.ior = 1.5f;
+  Pcg32 rng(3, 5);
+  int reflect_below = 0, refract_above = 0, checked = 0;
+  for (int i = 0; i < 20000; ++i) {
+    ShadingContext sc;
+    sc.ng = vec3(0, 0, 1);
+    const float tilt = 1.2f * rng.next_float(), phi = 6.2831853f * rng.next_float();
+    sc.n = vec3(std::sin(tilt) * std::cos(phi), std::sin(tilt) * std::sin(phi), std::cos(tilt));
+    sc.wo = sample_uniform_sphere(vec2(rng.next_float(), rng.next_float()));
+    sc.entering = rng.next_float() < 0.5f;
+    if (!(sc.wo.z > 0.0f) || !(glm::dot(sc.wo, sc.n) > 0.0f)) continue;
+    ++checked;
+    reflect_below += reflect_dir(sc.wo, sc.n).z <= 0.0f;
+    vec3 wt;
+    refract_above += refract_dir(sc.wo, sc.n, sc.entering ? 1.5f : 1.0f / 1.5f, wt) && wt.z >= 0.0f;
+    BsdfSample bs;
+    if (sample_bsdf(mirror, sc, 0.5f, vec2(0.5f), bs)) {
+      ASSERT_GT(bs.wi.z, 0.0f) << "mirror, case " << i;
+    }
+    for (float u_lobe : {0.0f, 0.9999f}) {  // the reflection lobe, then (but for total reflection) transmission
+      if (!sample_bsdf(glass, sc, u_lobe, vec2(0.5f), bs)) continue;
+      const bool reflected = glm::dot(bs.wi, sc.n) > 0.0f;
+      ASSERT_EQ(bs.wi.z > 0.0f, reflected) << "glass, u_lobe " << u_lobe << ", case " << i;
+    }
+  }
+  // The tilts above do produce both kinds of wrong-side direction, so the checks were not vacuous.
+  EXPECT_GT(checked, 5000);
+  EXPECT_GT(reflect_below, 100);
+  EXPECT_GT(refract_above, 100);
 }
 
 TEST(Diffuse, CosineSamplingAroundMinusZIsCorrect) {

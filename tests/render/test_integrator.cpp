@@ -236,7 +236,9 @@ class PolygonIrradiance : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(PolygonIrradiance, DirectLightingMatchesLambertsFormula) {
   LightOverPlane setup = make_light_over_plane(GetParam());
-  if (GetParam() == "gltf-quad") ASSERT_GE(setup.rs.lights.lights.size(), 1u);  // two triangles, or one merged quad
+  if (GetParam() == "gltf-quad") {
+    ASSERT_GE(setup.rs.lights.lights.size(), 1u);  // two triangles, or one merged quad
+  }
   else ASSERT_EQ(setup.rs.lights.lights.size(), 1u);
   const vec3 points[] = {vec3(0.05f, 0, 0.02f), vec3(0.9f, 0, -0.7f), vec3(-2.0f, 0, 1.5f)};
   for (vec3 x : points) {
@@ -529,6 +531,29 @@ TEST(NonFinite, SamplesAreDroppedAndCounted) {
   EXPECT_GT(c.nonfinite_samples, 0u);
   EXPECT_LT(c.nonfinite_samples, 64u);
   for (size_t p = 0; p < film.count.size(); ++p) EXPECT_TRUE(is_finite(film.mean(p)));
+  size_t counted = 0;
+  for (uint32_t n : film.count) counted += n;
+  EXPECT_EQ(counted + c.nonfinite_samples, 64u);
+}
+
+// Radiance is never negative; a sample that is (a scene built in code with a negative emission, which the loaders
+// refuse) is dropped and counted as the non-finite ones are, never averaged in.
+TEST(NonFinite, NegativeSamplesAreDroppedAndCountedToo) {
+  Scene s;
+  add_material(s, diffuse(vec3(0.5f), vec3(-2.0f, 1.0f, 1.0f)));
+  s.background = vec3(1.0f);
+  s.spheres.push_back({vec3(0.0f), 1.0f, 0});
+  s.camera = Camera{vec3(0, 0, 3), vec3(0.0f), vec3(0, 1, 0), 60.0f};
+  RenderScene rs = make_render_scene(s);
+  RenderParams params;
+  params.width = params.height = 8;
+  Film film(8, 8);
+  Renderer renderer(1);
+  RenderCounters c;
+  renderer.render_frame(rs, params, film, 0, c);
+  EXPECT_GT(c.nonfinite_samples, 0u);
+  EXPECT_LT(c.nonfinite_samples, 64u);
+  for (double v : film.sum) EXPECT_GE(v, 0.0);
   size_t counted = 0;
   for (uint32_t n : film.count) counted += n;
   EXPECT_EQ(counted + c.nonfinite_samples, 64u);

@@ -67,6 +67,39 @@ TEST(PixelSampler, NumbersDependOnlyOnSeedPixelAndIndex) {
   }
 }
 
+/// Pearson's chi-square of points against the uniform density on an 8 x 8 grid of the unit square (63 degrees of
+/// freedom: mean 63, and 130 has a probability near 1e-6).
+double chi_square_8x8(const std::vector<vec2>& pts) {
+  std::vector<double> bins(64, 0.0);
+  for (vec2 p : pts) bins[size_t(int(p.y * 8.0f) * 8 + int(p.x * 8.0f))] += 1.0;
+  const double expected = double(pts.size()) / 64.0;
+  double chi2 = 0.0;
+  for (double b : bins) chi2 += (b - expected) * (b - expected) / expected;
+  return chi2;
+}
+
+TEST(PixelSampler, TheNumbersOfADrawAndOfTwoDrawsFillTheSquare) {
+  // A pixel's samples, for both samplers: the two numbers of one draw (next2d, and the pairs of next<4>), and the
+  // first numbers of two successive draws, are uniform in the unit square. Numbers repeated within or across
+  // draws would put the points on a line (the diagonal); a stratification (Sobol) passes with room to spare.
+  for (SamplerKind kind : {SamplerKind::independent, SamplerKind::sobol}) {
+    std::vector<vec2> camera, pair01, pair23, across;
+    for (uint64_t i = 0; i < 4096; ++i) {
+      PixelSampler s = PixelSampler::start(11, 4242, i, kind);
+      camera.push_back(s.next2d());
+      float v[4];
+      s.next<4>(v);
+      pair01.push_back({v[0], v[1]});
+      pair23.push_back({v[2], v[3]});
+      across.push_back({v[0], s.next1d()});
+    }
+    EXPECT_LT(chi_square_8x8(camera), 130.0) << "next2d, sampler " << int(kind);
+    EXPECT_LT(chi_square_8x8(pair01), 130.0) << "next<4> numbers 0 and 1, sampler " << int(kind);
+    EXPECT_LT(chi_square_8x8(pair23), 130.0) << "next<4> numbers 2 and 3, sampler " << int(kind);
+    EXPECT_LT(chi_square_8x8(across), 130.0) << "two draws, sampler " << int(kind);
+  }
+}
+
 TEST(PixelSampler, AllNumbersAreInTheUnitInterval) {
   for (SamplerKind kind : {SamplerKind::independent, SamplerKind::sobol})
     for (uint64_t i = 0; i < 4096; ++i) {

@@ -2,6 +2,7 @@
 // count, shading normals that are the true surface normals, and the shape of the curve it follows.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <map>
 
 #include "scene/procedural.h"
@@ -110,6 +111,29 @@ TEST(TorusKnot, FollowsTheCurve) {
   EXPECT_NEAR(centers.hi.x, 2.0f, 0.01f);
   EXPECT_NEAR(centers.hi.z, 2.0f / 3.0f, 0.01f);
   EXPECT_NEAR(centers.lo.z, -2.0f / 3.0f, 0.01f);
+}
+
+TEST(TorusKnot, RingsSitAtEvenStepsOfTheWholeCurve) {
+  // Ring i is centred on the (p, q) torus knot's point at t = 2 pi i / segments, written out here: a ring at the
+  // wrong parameter still lies on the curve (the test above), but the rings would bunch up and the last quad
+  // would bridge the gap back to the first.
+  TorusKnotParams k;
+  k.p = 3;
+  k.q = 5;
+  k.segments = 50;
+  k.sides = 8;
+  k.radius = 2.0f;
+  k.tube = 0.1f;
+  const Mesh m = make_torus_knot(k);
+  const double s = 2.0 / 3.0;
+  for (int i = 0; i < k.segments; ++i) {
+    dvec3 c(0.0);  // the ring's centre: the mean of its evenly spaced vertices
+    for (int j = 0; j < k.sides; ++j) c += dvec3(m.positions[size_t(i * k.sides + j)]);
+    c /= double(k.sides);
+    const double t = 2.0 * 3.14159265358979323846 * i / k.segments, r = s * (2.0 + std::cos(5 * t));
+    const dvec3 expected(r * std::cos(3 * t), r * std::sin(3 * t), s * std::sin(5 * t));
+    EXPECT_LT(glm::length(c - expected), 1e-5) << "ring " << i;
+  }
 }
 
 TEST(SignedVolume, OfAUnitCubeIsOneAndFlipsWithTheWinding) {

@@ -10,6 +10,7 @@
 #include "render/image.h"
 #include "scene/builtin_assets.h"
 #include "view/camera_control.h"
+#include "view/input.h"
 
 namespace pt {
 namespace {
@@ -66,6 +67,9 @@ struct Png {
     return {s / n, s2 / n - (s / n) * (s / n)};
   }
 };
+
+/// The viewer's panel column is 360 pixels wide under Xvfb (scale 1): the image area is right of it.
+constexpr int kPanelPx = 360;
 
 std::string write_script(const TempDir& dir, const std::string& text) {
   std::string path = dir / "script.txt";
@@ -133,6 +137,42 @@ TEST(Viewer, OpensAndShowsANonUniformImage) {
   const double p50 = j["restart_latency_ms"]["p50"].get<double>(), p95 = j["restart_latency_ms"]["p95"].get<double>();
   EXPECT_GT(p50, 0.0);
   EXPECT_LE(p50, p95);
+}
+
+// The window shows the render itself: the screenshot's image area, at the place image_area gives, holds the image
+// `save` writes (the same display transform), the right way up and not mirrored. A screenshot read bottom-up would
+// still show a plausible picture.
+TEST(Viewer, TheScreenshotShowsTheSavedImageTheRightWayUp) {
+  REQUIRE_DISPLAY();
+  TempDir dir;
+  std::string script = write_script(dir, "stop-at-spp 4\nwait-spp 4\nwait-frames 2\nsave " + dir / "render.png" +
+                                             "\nscreenshot " + dir / "shot.png" + "\nquit\n");
+  auto r = run_window({"--size", "200x120", "--script", script});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  Png shot(dir / "shot.png"), render(dir / "render.png");
+  ASSERT_TRUE(shot.ok() && render.ok());
+  ASSERT_EQ(render.w, 200);
+  ASSERT_EQ(render.h, 120);
+  // Xvfb has scale 1: window units are framebuffer pixels. The render is 1:1 when the area is 200 wide.
+  const ImageArea area = image_area(shot.w, shot.h, shot.w, float(kPanelPx), render.w, render.h);
+  ASSERT_EQ(area.rect.w, render.w) << "window " << shot.w << " x " << shot.h;
+  ASSERT_EQ(area.rect.h, render.h);
+  const int top = shot.h - area.rect.y - area.rect.h;  // the rectangle's first row, counted from the top
+  auto diff = [&](bool flip_y, bool flip_x) {
+    double d = 0;
+    for (int y = 0; y < render.h; ++y)
+      for (int x = 0; x < render.w; ++x)
+        for (int c = 0; c < 3; ++c) {
+          const int ry = flip_y ? render.h - 1 - y : y, rx = flip_x ? render.w - 1 - x : x;
+          d += std::abs(int(shot.rgb[(size_t(top + y) * shot.w + area.rect.x + x) * 3 + c]) -
+                        int(render.rgb[(size_t(ry) * render.w + rx) * 3 + c]));
+        }
+    return d / (3.0 * render.w * render.h);
+  };
+  const double same = diff(false, false), upside_down = diff(true, false), mirrored = diff(false, true);
+  EXPECT_LT(same, 2.0) << "upside down " << upside_down << ", mirrored " << mirrored;
+  EXPECT_GT(upside_down, same + 5.0);  // 14.5 against 0.0001 under Xvfb
+  EXPECT_GT(mirrored, same + 5.0);
 }
 
 // The orbit seen in the window is the orbit of camera_control.h: the viewer's image after `orbit 35 10` equals
@@ -366,7 +406,9 @@ TEST(Viewer, ASavedSceneRendersHeadlessAsTheViewerShowsIt) {
     ASSERT_EQ(r.exit_code, 0) << r.err;
     auto j = nlohmann::json::parse(read_file(dir / "out/saved.json"));
     std::string file = j["shapes"][0]["file"].get<std::string>();
-    if (edit_light) EXPECT_EQ(file, "saved.mesh0.obj");
+    if (edit_light) {
+      EXPECT_EQ(file, "saved.mesh0.obj");
+    }
     else EXPECT_EQ(file, "../cornell36.obj") << "an unedited mesh is named by its file, relative to the JSON";
     auto h = test::run_ptview({dir / "out/saved.json", "--frames", "3", "--size", "80x60", "--max-depth", "5",
                                "--out", dir / "out/headless.pfm"});
@@ -378,9 +420,6 @@ TEST(Viewer, ASavedSceneRendersHeadlessAsTheViewerShowsIt) {
                                           << mean_abs_diff(*viewer, *headless);
   }
 }
-
-/// The viewer's panel column is 360 pixels wide under Xvfb (scale 1): the image area is right of it.
-constexpr int kPanelPx = 360;
 
 /// Mean absolute difference of two screenshots over the image area.
 double image_area_diff(const Png& a, const Png& b) {
