@@ -509,19 +509,23 @@ TEST(MaxDepth, ZeroSeesOnlyEmissionDirectly) {
   EXPECT_EQ(c.shadow_rays, 0u);
 }
 
-/// A sphere emitting infinite radiance against a white background: every camera ray that sees it carries inf, and
-/// the pixels on its outline get finite and non-finite samples.
-RenderScene infinite_emitter_scene() {
+/// A sphere emitting `emission` against a white background: every camera ray that sees it carries that radiance,
+/// and the pixels on its outline get samples of both kinds.
+RenderScene emitter_scene(vec3 emission) {
   Scene s;
-  add_material(s, diffuse(vec3(0.5f), vec3(std::numeric_limits<float>::infinity())));
+  add_material(s, diffuse(vec3(0.5f), emission));
   s.background = vec3(1.0f);
   s.spheres.push_back({vec3(0.0f), 1.0f, 0});
   s.camera = Camera{vec3(0, 0, 3), vec3(0.0f), vec3(0, 1, 0), 60.0f};
   return make_render_scene(s);
 }
 
-TEST(NonFinite, SamplesAreDroppedAndCounted) {
-  RenderScene rs = infinite_emitter_scene();
+/// The emitter above with infinite radiance: non-finite samples where the sphere is seen.
+RenderScene infinite_emitter_scene() { return emitter_scene(vec3(std::numeric_limits<float>::infinity())); }
+
+/// One 8 x 8 frame of one sample a pixel of `rs`, which must give some samples to drop and some to keep: the
+/// dropped ones are counted, and they and the kept ones make up every sample.
+Film expect_some_dropped(const RenderScene& rs) {
   RenderParams params;
   params.width = params.height = 8;
   Film film(8, 8);
@@ -530,33 +534,22 @@ TEST(NonFinite, SamplesAreDroppedAndCounted) {
   renderer.render_frame(rs, params, film, 0, c);
   EXPECT_GT(c.nonfinite_samples, 0u);
   EXPECT_LT(c.nonfinite_samples, 64u);
-  for (size_t p = 0; p < film.count.size(); ++p) EXPECT_TRUE(is_finite(film.mean(p)));
   size_t counted = 0;
   for (uint32_t n : film.count) counted += n;
   EXPECT_EQ(counted + c.nonfinite_samples, 64u);
+  return film;
+}
+
+TEST(NonFinite, SamplesAreDroppedAndCounted) {
+  const Film film = expect_some_dropped(infinite_emitter_scene());
+  for (size_t p = 0; p < film.count.size(); ++p) EXPECT_TRUE(is_finite(film.mean(p)));
 }
 
 // Radiance is never negative; a sample that is (a scene built in code with a negative emission, which the loaders
 // refuse) is dropped and counted as the non-finite ones are, never averaged in.
 TEST(NonFinite, NegativeSamplesAreDroppedAndCountedToo) {
-  Scene s;
-  add_material(s, diffuse(vec3(0.5f), vec3(-2.0f, 1.0f, 1.0f)));
-  s.background = vec3(1.0f);
-  s.spheres.push_back({vec3(0.0f), 1.0f, 0});
-  s.camera = Camera{vec3(0, 0, 3), vec3(0.0f), vec3(0, 1, 0), 60.0f};
-  RenderScene rs = make_render_scene(s);
-  RenderParams params;
-  params.width = params.height = 8;
-  Film film(8, 8);
-  Renderer renderer(1);
-  RenderCounters c;
-  renderer.render_frame(rs, params, film, 0, c);
-  EXPECT_GT(c.nonfinite_samples, 0u);
-  EXPECT_LT(c.nonfinite_samples, 64u);
+  const Film film = expect_some_dropped(emitter_scene(vec3(-2.0f, 1.0f, 1.0f)));
   for (double v : film.sum) EXPECT_GE(v, 0.0);
-  size_t counted = 0;
-  for (uint32_t n : film.count) counted += n;
-  EXPECT_EQ(counted + c.nonfinite_samples, 64u);
 }
 
 // A dropped sample still takes its index: the adaptive passes (Renderer::render_pass, which continue each pixel at

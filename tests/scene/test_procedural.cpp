@@ -43,11 +43,7 @@ TEST(TorusKnot, IsClosedOutwardAndCounted) {
 
 TEST(TorusKnot, VolumeIsThatOfATubeAlongTheCurve) {
   // Pappus: a tube of radius r around a curve of length L encloses pi r^2 L (when it does not overlap itself).
-  TorusKnotParams k;
-  k.segments = 2000;
-  k.sides = 48;
-  k.radius = 1.0f;
-  k.tube = 0.05f;
+  const TorusKnotParams k{.p = 2, .q = 3, .segments = 2000, .sides = 48, .radius = 1.0f, .tube = 0.05f};
   Mesh m = make_torus_knot(k);
   double length = 0.0;
   const int n = 20000;
@@ -93,11 +89,7 @@ TEST(TorusKnot, ShadingNormalsAreUnitOutwardAndPerpendicularToTheSurface) {
 TEST(TorusKnot, FollowsTheCurve) {
   // Every vertex is at distance `tube` from the curve point of its ring, and the rings' centers span the knot's
   // extent: radius (2 + 1) / 3 in x and y, radius / 3 in z.
-  TorusKnotParams k;
-  k.segments = 120;
-  k.sides = 10;
-  k.radius = 2.0f;
-  k.tube = 0.1f;
+  const TorusKnotParams k{.p = 2, .q = 3, .segments = 120, .sides = 10, .radius = 2.0f, .tube = 0.1f};
   Mesh m = make_torus_knot(k);
   AABB centers;
   for (int i = 0; i < k.segments; ++i) {
@@ -117,13 +109,7 @@ TEST(TorusKnot, RingsSitAtEvenStepsOfTheWholeCurve) {
   // Ring i is centred on the (p, q) torus knot's point at t = 2 pi i / segments, written out here: a ring at the
   // wrong parameter still lies on the curve (the test above), but the rings would bunch up and the last quad
   // would bridge the gap back to the first.
-  TorusKnotParams k;
-  k.p = 3;
-  k.q = 5;
-  k.segments = 50;
-  k.sides = 8;
-  k.radius = 2.0f;
-  k.tube = 0.1f;
+  const TorusKnotParams k{.p = 3, .q = 5, .segments = 50, .sides = 8, .radius = 2.0f, .tube = 0.1f};
   const Mesh m = make_torus_knot(k);
   const double s = 2.0 / 3.0;
   for (int i = 0; i < k.segments; ++i) {
