@@ -53,17 +53,16 @@ struct ChiSquareResult {
   }
 };
 
-/// `sample(u)` returns a point in [0,1]^2 (a parametrization of the domain); `density(x)` is the claimed density
-/// of that point over [0,1]^2. Returns the p-value of "samples follow the density".
-inline ChiSquareResult chi_square_2d(const std::function<vec2(vec2)>& sample, const std::function<double(vec2)>& density,
-                                     int nx, int ny, int n_samples, uint64_t seed) {
+/// Pearson's chi-square of points in [0,1]^2 against `density` over [0,1]^2, on an nx x ny grid: the density is
+/// integrated over every cell, and cells expecting fewer than 5 points are pooled into one.
+inline ChiSquareResult chi_square_of_points(const std::vector<vec2>& points, const std::function<double(vec2)>& density,
+                                            int nx, int ny) {
   std::vector<double> observed(size_t(nx) * ny, 0.0), expected(size_t(nx) * ny, 0.0);
-  Pcg32 rng(seed, 0x1234);
-  for (int i = 0; i < n_samples; ++i) {
-    vec2 p = sample(vec2(rng.next_float(), rng.next_float()));
+  for (vec2 p : points) {
     int ix = std::clamp(int(p.x * nx), 0, nx - 1), iy = std::clamp(int(p.y * ny), 0, ny - 1);
     observed[size_t(iy) * nx + ix] += 1.0;
   }
+  const double n_samples = double(points.size());
   // Integrate the density over each cell with a 16x16 midpoint rule.
   const int sub = 16;
   ChiSquareResult r;
@@ -99,6 +98,16 @@ inline ChiSquareResult chi_square_2d(const std::function<vec2(vec2)>& sample, co
   r.dof = cells - 1;
   r.p_value = r.dof > 0 ? gamma_q(0.5 * r.dof, 0.5 * r.statistic) : 0.0;
   return r;
+}
+
+/// `sample(u)` returns a point in [0,1]^2 (a parametrization of the domain); `density(x)` is the claimed density
+/// of that point over [0,1]^2. Returns the p-value of "samples follow the density".
+inline ChiSquareResult chi_square_2d(const std::function<vec2(vec2)>& sample, const std::function<double(vec2)>& density,
+                                     int nx, int ny, int n_samples, uint64_t seed) {
+  std::vector<vec2> points(static_cast<size_t>(n_samples));
+  Pcg32 rng(seed, 0x1234);
+  for (vec2& p : points) p = sample(vec2(rng.next_float(), rng.next_float()));
+  return chi_square_of_points(points, density, nx, ny);
 }
 
 }  // namespace pt::test

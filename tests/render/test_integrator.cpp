@@ -238,8 +238,9 @@ TEST_P(PolygonIrradiance, DirectLightingMatchesLambertsFormula) {
   LightOverPlane setup = make_light_over_plane(GetParam());
   if (GetParam() == "gltf-quad") {
     ASSERT_GE(setup.rs.lights.lights.size(), 1u);  // two triangles, or one merged quad
+  } else {
+    ASSERT_EQ(setup.rs.lights.lights.size(), 1u);
   }
-  else ASSERT_EQ(setup.rs.lights.lights.size(), 1u);
   const vec3 points[] = {vec3(0.05f, 0, 0.02f), vec3(0.9f, 0, -0.7f), vec3(-2.0f, 0, 1.5f)};
   for (vec3 x : points) {
     double expected = setup.albedo / M_PI *

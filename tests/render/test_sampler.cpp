@@ -7,6 +7,7 @@
 
 #include <vector>
 
+#include "../core/chi_square.h"
 #include "net_check.h"
 #include "render/sampler.h"
 
@@ -68,14 +69,11 @@ TEST(PixelSampler, NumbersDependOnlyOnSeedPixelAndIndex) {
 }
 
 /// Pearson's chi-square of points against the uniform density on an 8 x 8 grid of the unit square (63 degrees of
-/// freedom: mean 63, and 130 has a probability near 1e-6).
+/// freedom: mean 63, and 130 has a probability near 1.5e-6).
 double chi_square_8x8(const std::vector<vec2>& pts) {
-  std::vector<double> bins(64, 0.0);
-  for (vec2 p : pts) bins[size_t(int(p.y * 8.0f) * 8 + int(p.x * 8.0f))] += 1.0;
-  const double expected = double(pts.size()) / 64.0;
-  double chi2 = 0.0;
-  for (double b : bins) chi2 += (b - expected) * (b - expected) / expected;
-  return chi2;
+  const test::ChiSquareResult r = test::chi_square_of_points(pts, [](vec2) { return 1.0; }, 8, 8);
+  EXPECT_EQ(r.dof, 63) << "no cell pooled";
+  return r.statistic;
 }
 
 TEST(PixelSampler, TheNumbersOfADrawAndOfTwoDrawsFillTheSquare) {

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <map>
+#include <numbers>
 
 #include "scene/procedural.h"
 
@@ -41,16 +42,20 @@ TEST(TorusKnot, IsClosedOutwardAndCounted) {
   }
 }
 
+/// The (p, q) torus knot's curve at t, written out independently of make_torus_knot: radius / 3 times
+/// ((2 + cos qt) cos pt, (2 + cos qt) sin pt, sin qt).
+dvec3 knot_curve_point(const TorusKnotParams& k, double t) {
+  const double s = double(k.radius) / 3.0, r = s * (2.0 + std::cos(k.q * t));
+  return dvec3(r * std::cos(k.p * t), r * std::sin(k.p * t), s * std::sin(k.q * t));
+}
+
 TEST(TorusKnot, VolumeIsThatOfATubeAlongTheCurve) {
   // Pappus: a tube of radius r around a curve of length L encloses pi r^2 L (when it does not overlap itself).
   const TorusKnotParams k{.p = 2, .q = 3, .segments = 2000, .sides = 48, .radius = 1.0f, .tube = 0.05f};
   Mesh m = make_torus_knot(k);
   double length = 0.0;
   const int n = 20000;
-  auto curve = [&](double t) {
-    double r = (2.0 + std::cos(k.q * t)) / 3.0;
-    return dvec3(r * std::cos(k.p * t), r * std::sin(k.p * t), std::sin(k.q * t) / 3.0);
-  };
+  auto curve = [&](double t) { return knot_curve_point(k, t); };
   for (int i = 0; i < n; ++i) length += glm::length(curve(2 * kPi * (i + 1) / n) - curve(2 * kPi * i / n));
   double expected = kPi * 0.05 * 0.05 * length;
   EXPECT_NEAR(signed_volume(m) / expected, 1.0, 0.01);
@@ -106,18 +111,16 @@ TEST(TorusKnot, FollowsTheCurve) {
 }
 
 TEST(TorusKnot, RingsSitAtEvenStepsOfTheWholeCurve) {
-  // Ring i is centred on the (p, q) torus knot's point at t = 2 pi i / segments, written out here: a ring at the
+  // Ring i is centred on the (p, q) torus knot's point at t = 2 pi i / segments (knot_curve_point): a ring at the
   // wrong parameter still lies on the curve (the test above), but the rings would bunch up and the last quad
   // would bridge the gap back to the first.
   const TorusKnotParams k{.p = 3, .q = 5, .segments = 50, .sides = 8, .radius = 2.0f, .tube = 0.1f};
   const Mesh m = make_torus_knot(k);
-  const double s = 2.0 / 3.0;
   for (int i = 0; i < k.segments; ++i) {
     dvec3 c(0.0);  // the ring's centre: the mean of its evenly spaced vertices
     for (int j = 0; j < k.sides; ++j) c += dvec3(m.positions[size_t(i * k.sides + j)]);
     c /= double(k.sides);
-    const double t = 2.0 * 3.14159265358979323846 * i / k.segments, r = s * (2.0 + std::cos(5 * t));
-    const dvec3 expected(r * std::cos(3 * t), r * std::sin(3 * t), s * std::sin(5 * t));
+    const dvec3 expected = knot_curve_point(k, 2.0 * std::numbers::pi * i / k.segments);
     EXPECT_LT(glm::length(c - expected), 1e-5) << "ring " << i;
   }
 }
