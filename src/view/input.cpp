@@ -14,11 +14,26 @@ ImageArea image_area(int fb_w, int fb_h, int win_w, float panel_w, int render_w,
   area.to_fb = win_w > 0 ? float(fb_w) / float(win_w) : 1.0f;
   area.panel_px = int(panel_w * area.to_fb);
   area.fb_height = fb_h;
+  area.empty = fb_w - area.panel_px < 1 || fb_h < 1;
   area.w = std::max(1, fb_w - area.panel_px);
   area.h = std::max(1, fb_h);
   area.rect = letterbox(area.w, area.h, render_w, render_h);
   area.rect.x += area.panel_px;
   return area;
+}
+
+ivec2 followed_size(const ImageArea& area) { return {std::min(area.w, 16384), std::min(area.h, 16384)}; }
+
+std::optional<ivec2> SizeFollower::update(const ImageArea& area, bool locked, ivec2 render, double now_seconds) {
+  if (locked || area.empty) return std::nullopt;
+  const ivec2 size = followed_size(area);
+  if (size != want) {
+    want = size;
+    since = now_seconds;
+    return std::nullopt;
+  }
+  if (want == render || now_seconds - since < debounce) return std::nullopt;
+  return want;
 }
 
 std::optional<ivec2> render_pixel_at(const ImageArea& area, double mx, double my, int render_w, int render_h) {

@@ -28,11 +28,26 @@ struct ImageArea {
   float to_fb = 1.0f;
   int panel_px = 0;   ///< the panel column's width
   int w = 1, h = 1;   ///< the area right of the panel column (what a window-sized render fills)
+  bool empty = false; ///< no pixel right of the panels (a minimized window, or one narrower than the panels)
 };
 
 /// This frame's image area: a framebuffer of fb_w x fb_h pixels behind a window win_w units wide (HiDPI screens
 /// have more pixels than units), a panel column panel_w units wide on the left, a render of render_w x render_h.
 ImageArea image_area(int fb_w, int fb_h, int win_w, float panel_w, int render_w, int render_h);
+
+/// The render size a window-sized render follows: the image area's, at most 16384 on a side.
+ivec2 followed_size(const ImageArea& area);
+
+/// Follows the window: once the image area has kept one size for `debounce` seconds (a drag is not a restart
+/// storm) and that size differs from the render's, update() returns the size to resize the render to. A locked
+/// size (--size, the Render panel's lock) and an empty area (a minimized window: its framebuffer is 0 x 0) are not
+/// followed: minimizing the window must not throw the accumulated image away.
+struct SizeFollower {
+  double debounce = 0.25;
+  ivec2 want{0, 0};
+  double since = 0.0;
+  std::optional<ivec2> update(const ImageArea& area, bool locked, ivec2 render, double now_seconds);
+};
 
 /// The render pixel under a window point (GLFW cursor units, origin top-left), or nothing outside the image: what a
 /// click picks.

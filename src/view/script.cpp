@@ -1,5 +1,6 @@
 #include "view/script.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -120,6 +121,43 @@ std::variant<std::optional<CompareConfig>, std::string> parse_compare(const std:
 std::string check_compare(const std::vector<std::string>& a) {
   auto r = parse_compare(a, RenderParams{});
   return std::holds_alternative<std::string>(r) ? std::get<std::string>(r) : "";
+}
+
+std::string check_window_size(const std::vector<std::string>& a) {
+  for (const std::string& s : a) {
+    const double v = std::strtod(s.c_str(), nullptr);
+    if (!(v >= 1 && v <= 16384 && v == std::floor(v))) return "'" + s + "' is not a window size from 1 to 16384";
+  }
+  return {};
+}
+
+/// `window W H`: asks the viewer for the size, then waits until the window has it and the render has followed the
+/// image area (unless the size is locked), so that the next wait-frames waits for frames of the new size. The
+/// window system may refuse a size: after 10 s the command fails instead of waiting for ever.
+ScriptStep run_window(ScriptRun& r, ViewerState& st, const ScriptCommand& c) {
+  const int w = int(num(c, 0)), h = int(num(c, 1));
+  const auto now = std::chrono::steady_clock::now();
+  if (!r.window_pending) {
+    r.window_pending = true;
+    r.window_deadline = now + std::chrono::seconds(10);
+    r.window_request = std::array<int, 2>{w, h};
+    return ScriptStep::wait;
+  }
+  const WindowView& v = r.window;
+  const bool sized = v.window_w == w && v.window_h == h;
+  const bool followed = v.size_locked || (st.params.width == v.follow_w && st.params.height == v.follow_h);
+  if (sized && followed) {
+    r.window_pending = false;
+    return ScriptStep::done;
+  }
+  if (now < r.window_deadline) return ScriptStep::wait;
+  r.window_pending = false;
+  fail(r, c,
+       sized ? "window: the render stayed " + std::to_string(st.params.width) + "x" + std::to_string(st.params.height) +
+                   ", the image area is " + std::to_string(v.follow_w) + "x" + std::to_string(v.follow_h)
+             : "window: the window system kept the window at " + std::to_string(v.window_w) + "x" +
+                   std::to_string(v.window_h));
+  return ScriptStep::done;
 }
 
 std::string check_fraction(const std::vector<std::string>& a) {
@@ -269,6 +307,7 @@ const ScriptCommandSpec kCommands[] = {
        st.apply(DividerEdit{num(c, 0)});
        return ScriptStep::done;
      }},
+    {"window", "W H", 2, 2, true, check_window_size, run_window},
     {"load", "PATH", 1, 1, false, check_none,
      [](ScriptRun&, ViewerState& st, const ScriptCommand& c) {
        st.start_load(c.args[0]);
@@ -388,6 +427,7 @@ Result<std::vector<ScriptCommand>> load_script(const std::string& path) {
 
 void ScriptRun::step(ViewerState& st) {
   screenshot_request.clear();
+  window_request.reset();
   while (!done()) {
     const ScriptCommand& c = commands[next];
     const ScriptCommandSpec& spec = *find_command(c.name);

@@ -2,7 +2,9 @@
 /// Scripted input for the windowed mode (--script FILE): one command per line, `#` starts a comment. Every command
 /// is one row of the table in script.cpp (name, arguments, check, run), and runs by producing the same Edit values
 /// as the mouse, keyboard and panels. The README's command table is the only other list.
+#include <array>
 #include <chrono>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -24,6 +26,13 @@ struct ScriptCommand {
 Result<std::vector<ScriptCommand>> parse_script(std::string_view text, const std::string& file);
 Result<std::vector<ScriptCommand>> load_script(const std::string& path);
 
+/// What the window shows, set by the viewer before each step: the `window` command waits on it.
+struct WindowView {
+  int window_w = 0, window_h = 0;  ///< the window's size in screen units (glfwGetWindowSize)
+  int follow_w = 0, follow_h = 0;  ///< the size the render follows to: the image area's (view/input.h)
+  bool size_locked = true;  ///< --size, the Render panel's lock or an empty area: the render does not follow
+};
+
 /// A script being run, one UI frame at a time.
 struct ScriptRun {
   std::string file;
@@ -36,6 +45,10 @@ struct ScriptRun {
   int failures = 0;                ///< failed expectations and impossible commands (exit code 3)
   bool quit = false;
   std::string screenshot_request;  ///< a window PNG to write at the end of this UI frame
+  WindowView window;               ///< set by the viewer before each step
+  std::optional<std::array<int, 2>> window_request;  ///< a window size (screen units) to set after this step
+  bool window_pending = false;                        ///< a `window` command asked and waits for the result
+  std::chrono::steady_clock::time_point window_deadline{};
 
   bool done() const { return next >= commands.size(); }
   /// Runs commands until one has to wait for frames or time, or asks for a screenshot.

@@ -27,8 +27,6 @@ namespace pt {
 namespace {
 
 constexpr int kPanelWidth = 360;
-/// The render follows a window resize once the size has been stable this long (a drag is not a restart storm).
-constexpr double kResizeDebounceSeconds = 0.25;
 
 InputState* g_input = nullptr;  // GLFW callbacks carry no user data besides the window pointer's
 
@@ -89,29 +87,6 @@ void close_window(GLFWwindow* window) {
   glfwDestroyWindow(window);
   glfwTerminate();
 }
-
-/// Follows the window: once the image area's framebuffer size has been stable for the debounce time and differs
-/// from the render size, a RenderParamsEdit resizes the render.
-struct SizeFollower {
-  int want_w = 0, want_h = 0;
-  Clock::time_point since{};
-  void update(ViewerState& st, bool locked, int area_w, int area_h) {
-    if (locked || area_w < 1 || area_h < 1) return;
-    if (area_w != want_w || area_h != want_h) {
-      want_w = area_w;
-      want_h = area_h;
-      since = Clock::now();
-      return;
-    }
-    if ((want_w == st.params.width && want_h == st.params.height) ||
-        std::chrono::duration<double>(Clock::now() - since).count() < kResizeDebounceSeconds)
-      return;
-    RenderParams p = st.params;
-    p.width = std::min(want_w, 16384);
-    p.height = std::min(want_h, 16384);
-    st.apply(RenderParamsEdit{p});
-  }
-};
 
 /// Shows the newest frame; the first frame of an epoch closes its restart-latency measurement, and full frames
 /// tune the preview divisor so a preview takes about 10 ms.
@@ -269,8 +244,17 @@ int run_viewer(const RenderParams& params, const DisplaySettings& display, const
     bool divider_mouse = drag_divider(window, st, area, io.WantCaptureMouse, divider_drag);
     if (process_input(window, input, st, area, dt, io.WantCaptureMouse || divider_mouse, io.WantCaptureKeyboard))
       panels.open_material = true;
+    const ivec2 follow_to = followed_size(area);
+    script.window = {ww, wh, follow_to.x, follow_to.y, panels.lock_size || area.empty};
     if (!script.done()) script.step(st);
-    follow.update(st, panels.lock_size, area.w, area.h);
+    if (script.window_request) glfwSetWindowSize(window, (*script.window_request)[0], (*script.window_request)[1]);
+    const double seconds = std::chrono::duration<double>(now.time_since_epoch()).count();
+    if (auto size = follow.update(area, panels.lock_size, ivec2(st.params.width, st.params.height), seconds)) {
+      RenderParams p = st.params;
+      p.width = size->x;
+      p.height = size->y;
+      st.apply(RenderParamsEdit{p});
+    }
     st.tick_compare();
     const bool dirty = st.display_dirty;
     fetch_frame(st, gl, shown, legend, heat);

@@ -76,6 +76,45 @@ TEST(ImageArea, AMinimisedWindowHasAnAreaButNoPixelToPick) {
   EXPECT_FALSE(render_pixel_at(none, 0.0, 0.0, 320, 240));
 }
 
+TEST(ImageArea, AMinimisedOrTooNarrowWindowHasAnEmptyArea) {
+  EXPECT_TRUE(image_area(0, 0, 0, 360.0f, 320, 240).empty);
+  EXPECT_TRUE(image_area(360, 500, 360, 360.0f, 320, 240).empty);  // all panels
+  EXPECT_TRUE(image_area(800, 0, 800, 360.0f, 320, 240).empty);
+  EXPECT_FALSE(image_area(361, 1, 361, 360.0f, 320, 240).empty);  // one pixel
+  EXPECT_EQ(followed_size(image_area(361, 1, 361, 360.0f, 320, 240)), ivec2(1, 1));
+}
+
+TEST(SizeFollower, TheRenderTakesTheAreaSizeOnceItHasBeenStableForTheDebounce) {
+  SizeFollower f;
+  const ImageArea area = image_area(1000, 700, 1000, 360.0f, 320, 240);  // 640 x 700
+  const ivec2 render(320, 240);
+  EXPECT_FALSE(f.update(area, false, render, 10.0));  // a new size: the debounce starts
+  EXPECT_FALSE(f.update(area, false, render, 10.2));
+  EXPECT_EQ(f.update(area, false, render, 10.25), ivec2(640, 700));
+  EXPECT_FALSE(f.update(area, false, ivec2(640, 700), 11.0));  // followed: nothing more to do
+  // A drag: each new size restarts the debounce, so no resize happens until the size holds still.
+  const ImageArea taller = image_area(1000, 720, 1000, 360.0f, 320, 240);
+  EXPECT_FALSE(f.update(taller, false, ivec2(640, 700), 11.1));
+  EXPECT_FALSE(f.update(area, false, ivec2(640, 700), 11.3));  // back to the render's size: nothing to follow
+  EXPECT_FALSE(f.update(taller, false, ivec2(640, 700), 11.4));
+  EXPECT_FALSE(f.update(taller, false, ivec2(640, 700), 11.6));
+  EXPECT_EQ(f.update(taller, false, ivec2(640, 700), 11.7), ivec2(640, 720));
+}
+
+TEST(SizeFollower, ALockedSizeOrAMinimisedWindowIsNotFollowed) {
+  const ImageArea area = image_area(1000, 700, 1000, 360.0f, 320, 240);
+  SizeFollower f;
+  for (double t = 0.0; t < 2.0; t += 0.1) EXPECT_FALSE(f.update(area, true, ivec2(320, 240), t)) << t;
+  // Minimised (a 0 x 0 framebuffer): the render keeps its size and its samples.
+  const ImageArea minimised = image_area(0, 0, 0, 360.0f, 320, 240);
+  for (double t = 0.0; t < 2.0; t += 0.1) EXPECT_FALSE(f.update(minimised, false, ivec2(320, 240), t)) << t;
+  // A huge window: the render is held to 16384 on a side.
+  const ImageArea huge = image_area(40000, 20000, 40000, 360.0f, 320, 240);
+  EXPECT_EQ(followed_size(huge), ivec2(16384, 16384));
+  EXPECT_FALSE(f.update(huge, false, ivec2(320, 240), 5.0));
+  EXPECT_EQ(f.update(huge, false, ivec2(320, 240), 5.3), ivec2(16384, 16384));
+}
+
 TEST(ImageArea, TheDividerFollowsTheCursorAcrossTheImage) {
   // The HiDPI area of the tests above: the image spans window x 360 to 360 + 640.
   const ImageArea a = image_area(2000, 1600, 1000, 360.0f, 320, 240);

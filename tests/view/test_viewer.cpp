@@ -142,6 +142,24 @@ TEST(Viewer, OpensAndShowsANonUniformImage) {
 // The window shows the render itself: the screenshot's image area, at the place image_area gives, holds the image
 // `save` writes (the same display transform), the right way up and not mirrored. A screenshot read bottom-up would
 // still show a plausible picture.
+/// Mean absolute difference (of 255) between a window screenshot's image area and a saved render, which must fill
+/// it 1:1 (Xvfb has scale 1: window units are framebuffer pixels); the render flipped as asked. -1 if the render
+/// is not shown 1:1.
+double shown_vs_saved(const Png& shot, const Png& render, bool flip_y = false, bool flip_x = false) {
+  const ImageArea area = image_area(shot.w, shot.h, shot.w, float(kPanelPx), render.w, render.h);
+  if (area.rect.w != render.w || area.rect.h != render.h) return -1;
+  const int top = shot.h - area.rect.y - area.rect.h;  // the rectangle's first row, counted from the top
+  double d = 0;
+  for (int y = 0; y < render.h; ++y)
+    for (int x = 0; x < render.w; ++x)
+      for (int c = 0; c < 3; ++c) {
+        const int ry = flip_y ? render.h - 1 - y : y, rx = flip_x ? render.w - 1 - x : x;
+        d += std::abs(int(shot.rgb[(size_t(top + y) * shot.w + area.rect.x + x) * 3 + c]) -
+                      int(render.rgb[(size_t(ry) * render.w + rx) * 3 + c]));
+      }
+  return d / (3.0 * render.w * render.h);
+}
+
 TEST(Viewer, TheScreenshotShowsTheSavedImageTheRightWayUp) {
   REQUIRE_DISPLAY();
   TempDir dir;
@@ -153,26 +171,49 @@ TEST(Viewer, TheScreenshotShowsTheSavedImageTheRightWayUp) {
   ASSERT_TRUE(shot.ok() && render.ok());
   ASSERT_EQ(render.w, 200);
   ASSERT_EQ(render.h, 120);
-  // Xvfb has scale 1: window units are framebuffer pixels. The render is 1:1 when the area is 200 wide.
-  const ImageArea area = image_area(shot.w, shot.h, shot.w, float(kPanelPx), render.w, render.h);
-  ASSERT_EQ(area.rect.w, render.w) << "window " << shot.w << " x " << shot.h;
-  ASSERT_EQ(area.rect.h, render.h);
-  const int top = shot.h - area.rect.y - area.rect.h;  // the rectangle's first row, counted from the top
-  auto diff = [&](bool flip_y, bool flip_x) {
-    double d = 0;
-    for (int y = 0; y < render.h; ++y)
-      for (int x = 0; x < render.w; ++x)
-        for (int c = 0; c < 3; ++c) {
-          const int ry = flip_y ? render.h - 1 - y : y, rx = flip_x ? render.w - 1 - x : x;
-          d += std::abs(int(shot.rgb[(size_t(top + y) * shot.w + area.rect.x + x) * 3 + c]) -
-                        int(render.rgb[(size_t(ry) * render.w + rx) * 3 + c]));
-        }
-    return d / (3.0 * render.w * render.h);
-  };
-  const double same = diff(false, false), upside_down = diff(true, false), mirrored = diff(false, true);
+  // The render is 1:1 when the area is 200 wide.
+  const double same = shown_vs_saved(shot, render), upside_down = shown_vs_saved(shot, render, true, false),
+               mirrored = shown_vs_saved(shot, render, false, true);
+  ASSERT_GE(same, 0.0) << "not shown 1:1 in a window of " << shot.w << " x " << shot.h;
   EXPECT_LT(same, 2.0) << "upside down " << upside_down << ", mirrored " << mirrored;
   EXPECT_GT(upside_down, same + 5.0);  // 14.5 against 0.0001 under Xvfb
   EXPECT_GT(mirrored, same + 5.0);
+}
+
+// Without --size the render follows the window's image area (the window less the 360-pixel panel column): `window`
+// resizes the window and restarts at the new size, which the screen then shows 1:1, also after a change of height
+// alone (the display texture must be re-created for it, mutation DS3). With --size the render keeps its size.
+TEST(Viewer, TheRenderFollowsTheWindowUnlessItsSizeIsLocked) {
+  REQUIRE_DISPLAY();
+  TempDir dir;
+  auto saves = [&](const std::string& name) { return "wait-frames 2\nsave " + dir / name + "\n"; };
+  std::string script = write_script(dir, "wait-frames 1\nwindow 600 500\nexpect-restart\n" + saves("a.png") +
+                                             "window 600 420\nexpect-restart\n" + saves("b.png") + "screenshot " +
+                                             dir / "shot.png" + "\nquit\n");
+  auto r = run_window({"--threads", "2", "--script", script});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  Png a(dir / "a.png"), b(dir / "b.png"), shot(dir / "shot.png");
+  ASSERT_TRUE(a.ok() && b.ok() && shot.ok());
+  EXPECT_EQ(a.w, 600 - kPanelPx);
+  EXPECT_EQ(a.h, 500);
+  EXPECT_EQ(b.w, 600 - kPanelPx);
+  EXPECT_EQ(b.h, 420);
+  ASSERT_EQ(shot.w, 600);
+  ASSERT_EQ(shot.h, 420);
+  const double shown = shown_vs_saved(shot, b);
+  EXPECT_GE(shown, 0.0);
+  EXPECT_LT(shown, 2.0);
+
+  std::string locked = write_script(dir, "wait-frames 1\nwindow 700 500\nexpect-no-restart\n" + saves("c.png") +
+                                             "screenshot " + dir / "shot2.png" + "\nquit\n");
+  r = run_window({"--size", "200x120", "--script", locked});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  Png c(dir / "c.png"), shot2(dir / "shot2.png");
+  ASSERT_TRUE(c.ok() && shot2.ok());
+  EXPECT_EQ(c.w, 200);
+  EXPECT_EQ(c.h, 120);
+  EXPECT_EQ(shot2.w, 700);
+  EXPECT_EQ(shot2.h, 500);
 }
 
 // The orbit seen in the window is the orbit of camera_control.h: the viewer's image after `orbit 35 10` equals

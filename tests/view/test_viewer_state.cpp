@@ -3,6 +3,7 @@
 // model (which lights, their placement, resizing), and parse_script on every malformed form.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -760,6 +761,11 @@ TEST(Script, EveryMalformedFormIsRejectedWithItsLine) {
       {"noise-threshold 0.1 16777217", "the minimum spp must be an integer"},
       {"wait-frames 1e10", "not a non-negative integer"},
       {"set-material diffuse albedo=1,2,3,", "not a list of numbers"},
+      {"window 640", "takes 2 argument"},
+      {"window 0 480", "not a window size from 1 to 16384"},
+      {"window 640 480.5", "not a window size from 1 to 16384"},
+      {"window 16385 480", "not a window size from 1 to 16384"},
+      {"window 640 x", "is not a number"},
   };
   for (const Case& c : cases) {
     auto r = parse_script(std::string("wait-frames 1  # fine\n") + c.line + "\n", "s.txt");
@@ -818,6 +824,64 @@ TEST(Script, ImpossibleCommandsAreCountedFailures) {
   EXPECT_EQ(run_script(st, "light-size 1 1\n").failures, 1);  // a sphere has no W x H
 }
 
+/// Steps `run` once with the window as the viewer reports it; returns the size the script asked the window for.
+std::optional<std::array<int, 2>> step_with_window(ScriptRun& run, ViewerState& st, WindowView view) {
+  run.window = view;
+  run.step(st);
+  return run.window_request;
+}
+
+// `window W H` without a window: it asks once, then waits until the window has the size and the render has followed
+// the area (or the size is locked), then the next command runs.
+TEST(Script, WindowAsksForTheSizeAndWaitsForTheRenderToFollow) {
+  ViewerState st;
+  st.init(builtin("cornell"), small_params(), {}, 1);  // 32 x 24
+  Result<std::vector<ScriptCommand>> commands = parse_script("window 600 500\nquit\n", "s.txt");
+  ASSERT_TRUE(commands.ok());
+  ScriptRun run;
+  run.commands = *commands;
+  EXPECT_EQ(step_with_window(run, st, {1000, 760, 640, 760, false}), (std::array<int, 2>{600, 500}));
+  EXPECT_EQ(run.next, 0u);
+  EXPECT_FALSE(step_with_window(run, st, {1000, 760, 640, 760, false}));  // asked once only
+  EXPECT_FALSE(step_with_window(run, st, {600, 500, 240, 500, false}));   // resized; the render not yet
+  EXPECT_EQ(run.next, 0u);
+  RenderParams p = st.params;
+  p.width = 240;
+  p.height = 500;
+  st.apply(RenderParamsEdit{p});
+  step_with_window(run, st, {600, 500, 240, 500, false});
+  EXPECT_TRUE(run.quit);
+  EXPECT_EQ(run.failures, 0);
+  // Locked: the window's size alone ends the wait.
+  ScriptRun locked;
+  locked.commands = *commands;
+  step_with_window(locked, st, {1000, 760, 640, 760, true});
+  EXPECT_FALSE(locked.quit);
+  step_with_window(locked, st, {600, 500, 240, 500, true});
+  EXPECT_TRUE(locked.quit);
+  EXPECT_EQ(locked.failures, 0);
+}
+
+TEST(Script, AWindowSizeTheWindowSystemRefusesFailsAfterItsDeadline) {
+  ViewerState st;
+  st.init(builtin("cornell"), small_params(), {}, 1);
+  Result<std::vector<ScriptCommand>> commands = parse_script("window 600 500\nquit\n", "s.txt");
+  ASSERT_TRUE(commands.ok());
+  for (bool sized : {false, true}) {
+    ScriptRun run;
+    run.commands = *commands;
+    const WindowView view = sized ? WindowView{600, 500, 240, 500, false} : WindowView{1000, 760, 640, 760, true};
+    step_with_window(run, st, view);
+    step_with_window(run, st, view);
+    EXPECT_FALSE(run.quit) << sized;
+    run.window_deadline = std::chrono::steady_clock::now();  // as if 10 s had passed
+    step_with_window(run, st, view);
+    EXPECT_TRUE(run.quit) << sized;
+    EXPECT_EQ(run.failures, 1) << sized;
+    EXPECT_FALSE(run.window_pending);
+  }
+}
+
 TEST(Script, WaitsCoverBothSidesOfACompareAndALoadInFlight) {
   TempDir dir;
   ViewerState st;
@@ -844,7 +908,7 @@ TEST(Script, EveryCommandOfTheTableParsesItsWellFormedUse) {
       "light-size 0.5 0.2\nlight-scale 1.1\nlight-position 0 1.9 0\nlight-intensity 2\nexposure -1\ntonemap reinhard\n"
       "load x.obj\nwait-frames 2\nwait-spp 4\nwait-ms 10\nstop-at-spp 8\nscreenshot a.png\nsave a.pfm\nsave-scene a.json\nexpect-restart\n"
       "expect-no-restart\ndisplay error\nnoise-threshold 0.05 16\n"
-      "compare integrator=nee sampler=independent light-sampling=area adaptive=0.1\ndivider 0.3\nquit\n";
+      "compare integrator=nee sampler=independent light-sampling=area adaptive=0.1\ndivider 0.3\nwindow 800 600\nquit\n";
   auto r = parse_script(good, "s.txt");
   ASSERT_TRUE(r.ok()) << r.error();
   EXPECT_EQ(r->size(), script_commands().size());
