@@ -145,6 +145,36 @@ TEST(Diffuse, SampledWeightIsAlbedoAndPdfMatchesEval) {
   EXPECT_EQ(bsdf_pdf(m, sc, -sc.n), 0.0f);
 }
 
+// With a tilted shading normal, sample_bsdf refuses the cosine lobe's directions below the geometric surface, so the
+// pdf MIS uses must integrate over the sphere to the chance that a sample is returned, and be 0 wherever sampling
+// cannot go: below the shading hemisphere as well as below the geometric surface.
+TEST(Diffuse, PdfIntegratesToTheChanceOfASampleUnderATiltedNormal) {
+  Material m;
+  Pcg32 rng(4, 2);
+  for (float tilt : {0.0f, 0.5f, 1.0f}) {
+    ShadingContext sc;
+    sc.ng = vec3(0, 0, 1);
+    sc.n = vec3(std::sin(tilt), 0.0f, std::cos(tilt));
+    sc.wo = sc.ng;
+    const int n = 200000;
+    int returned = 0;
+    double integral = 0.0;
+    for (int i = 0; i < n; ++i) {
+      BsdfSample bs;
+      returned += sample_bsdf(m, sc, 0.5f, vec2(rng.next_float(), rng.next_float()), bs);
+      const vec3 wi = sample_uniform_sphere(vec2(rng.next_float(), rng.next_float()));
+      const float pdf = bsdf_pdf(m, sc, wi);
+      integral += pdf / uniform_sphere_pdf();
+      if (glm::dot(wi, sc.n) <= 0.0f || wi.z <= 0.0f) {
+        ASSERT_EQ(pdf, 0.0f) << "tilt " << tilt << ", wi " << wi.x << " " << wi.y << " " << wi.z;
+      }
+    }
+    const double chance = double(returned) / n;
+    EXPECT_NEAR(integral / n, chance, 0.015) << "tilt " << tilt;
+    if (tilt == 1.0f) EXPECT_LT(chance, 0.9);  // the tilt does refuse samples: the check is not vacuous
+  }
+}
+
 TEST(Mirror, ReflectsAboutTheNormalWithItsAlbedo) {
   Material m;
   m.type = MaterialType::specular;
