@@ -188,12 +188,14 @@ TEST(Viewer, TheScreenshotShowsTheSavedImageTheRightWayUp) {
 TEST(Viewer, TheRenderFollowsTheWindowUnlessItsSizeIsLocked) {
   REQUIRE_DISPLAY();
   TempDir dir;
-  auto saves = [&](const std::string& name) { return "wait-frames 2\nsave " + dir / name + "\n"; };
+  // Each epoch stops at 4 spp, so the image saved and the image shown are the same frame.
+  auto saves = [&](const std::string& name) { return "wait-spp 4\nsave " + dir / name + "\n"; };
   auto shows = [&](const std::string& name) { return "screenshot " + dir / name + "\n"; };
-  std::string script = write_script(
-      dir, "wait-frames 1\nwindow 600 500\nexpect-restart\n" + saves("a.png") + "window 600 420\nexpect-restart\n" +
-               saves("b.png") + shows("shot_b.png") + "window 400 100\nwait-frames 8\nwindow 400 80\nexpect-restart\n" +
-               saves("c.png") + shows("shot_c.png") + "quit\n");
+  std::string script =
+      write_script(dir, "stop-at-spp 4\nwait-frames 1\nwindow 600 500\nexpect-restart\n" + saves("a.png") +
+                            "window 600 420\nexpect-restart\n" + saves("b.png") + shows("shot_b.png") +
+                            "window 400 100\nwait-spp 4\nwindow 400 80\nexpect-restart\n" + saves("c.png") +
+                            shows("shot_c.png") + "quit\n");
   auto r = run_window({"--threads", "2", "--script", script});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   Png a(dir / "a.png"), b(dir / "b.png"), c(dir / "c.png"), shot_b(dir / "shot_b.png"), shot_c(dir / "shot_c.png");
@@ -212,8 +214,8 @@ TEST(Viewer, TheRenderFollowsTheWindowUnlessItsSizeIsLocked) {
     EXPECT_LT(shown, 2.0) << saved->w << " x " << saved->h;
   }
 
-  std::string locked = write_script(dir, "wait-frames 1\nwindow 700 500\nexpect-no-restart\n" + saves("d.png") +
-                                             shows("shot2.png") + "quit\n");
+  std::string locked = write_script(dir, "stop-at-spp 4\nwait-frames 1\nwindow 700 500\nexpect-no-restart\n" +
+                                             saves("d.png") + shows("shot2.png") + "quit\n");
   r = run_window({"--size", "200x120", "--script", locked});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   Png d(dir / "d.png"), shot2(dir / "shot2.png");
