@@ -30,7 +30,7 @@ Result<std::vector<ScriptCommand>> load_script(const std::string& path);
 struct WindowView {
   int window_w = 0, window_h = 0;  ///< the window's size in screen units (glfwGetWindowSize)
   int follow_w = 0, follow_h = 0;  ///< the size the render follows to: the image area's (view/input.h)
-  bool size_locked = true;  ///< --size, the Render panel's lock or an empty area: the render does not follow
+  bool size_locked = true;         ///< --size, the Render panel's lock or an empty area: the render does not follow
 };
 
 /// A script being run, one UI frame at a time.

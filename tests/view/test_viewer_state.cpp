@@ -908,7 +908,8 @@ TEST(Script, EveryCommandOfTheTableParsesItsWellFormedUse) {
       "light-size 0.5 0.2\nlight-scale 1.1\nlight-position 0 1.9 0\nlight-intensity 2\nexposure -1\ntonemap reinhard\n"
       "load x.obj\nwait-frames 2\nwait-spp 4\nwait-ms 10\nstop-at-spp 8\nscreenshot a.png\nsave a.pfm\nsave-scene a.json\nexpect-restart\n"
       "expect-no-restart\ndisplay error\nnoise-threshold 0.05 16\n"
-      "compare integrator=nee sampler=independent light-sampling=area adaptive=0.1\ndivider 0.3\nwindow 800 600\nquit\n";
+      "compare integrator=nee sampler=independent light-sampling=area adaptive=0.1\ndivider 0.3\nwindow 800 600\n"
+      "quit\n";
   auto r = parse_script(good, "s.txt");
   ASSERT_TRUE(r.ok()) << r.error();
   EXPECT_EQ(r->size(), script_commands().size());
