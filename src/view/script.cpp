@@ -137,9 +137,8 @@ std::string check_window_size(const std::vector<std::string>& a) {
 ScriptStep run_window(ScriptRun& r, ViewerState& st, const ScriptCommand& c) {
   const int w = int(num(c, 0)), h = int(num(c, 1));
   const auto now = std::chrono::steady_clock::now();
-  if (!r.window_pending) {
-    r.window_pending = true;
-    r.window_deadline = now + std::chrono::seconds(10);
+  if (!r.deadline) {
+    r.deadline = now + std::chrono::seconds(10);
     r.window_request = std::array<int, 2>{w, h};
     return ScriptStep::wait;
   }
@@ -147,11 +146,11 @@ ScriptStep run_window(ScriptRun& r, ViewerState& st, const ScriptCommand& c) {
   const bool sized = v.window_w == w && v.window_h == h;
   const bool followed = v.size_locked || (st.params.width == v.follow_w && st.params.height == v.follow_h);
   if (sized && followed) {
-    r.window_pending = false;
+    r.deadline.reset();
     return ScriptStep::done;
   }
-  if (now < r.window_deadline) return ScriptStep::wait;
-  r.window_pending = false;
+  if (now < *r.deadline) return ScriptStep::wait;
+  r.deadline.reset();
   fail(r, c,
        sized ? "window: the render stayed " + std::to_string(st.params.width) + "x" + std::to_string(st.params.height) +
                    ", the image area is " + std::to_string(v.follow_w) + "x" + std::to_string(v.follow_h)
@@ -330,12 +329,9 @@ const ScriptCommandSpec kCommands[] = {
     {"wait-ms", "N", 1, 1, true, check_count,
      [](ScriptRun& r, ViewerState&, const ScriptCommand& c) {
        auto now = std::chrono::steady_clock::now();
-       if (!r.waiting_ms) {
-         r.waiting_ms = true;
-         r.wait_until = now + std::chrono::milliseconds(int64_t(num(c, 0)));
-       }
-       if (now < r.wait_until) return ScriptStep::wait;
-       r.waiting_ms = false;
+       if (!r.deadline) r.deadline = now + std::chrono::milliseconds(int64_t(num(c, 0)));
+       if (now < *r.deadline) return ScriptStep::wait;
+       r.deadline.reset();
        return ScriptStep::done;
      }},
     {"screenshot", "PATH", 1, 1, false, check_none,

@@ -39,16 +39,15 @@ struct ScriptRun {
   std::vector<ScriptCommand> commands;
   size_t next = 0;
   uint64_t epoch_before_previous = 0, epoch_before_current = 0;
-  std::chrono::steady_clock::time_point wait_until{};
-  bool waiting_ms = false;
+  /// The running command's deadline, set on its first step and cleared when it ends (wait-ms: the end of the
+  /// wait; window: when it gives up on the window system).
+  std::optional<std::chrono::steady_clock::time_point> deadline;
   size_t started = size_t(-1);  ///< index of the command whose epoch bookkeeping is done (it may wait: display)
   int failures = 0;                ///< failed expectations and impossible commands (exit code 3)
   bool quit = false;
   std::string screenshot_request;  ///< a window PNG to write at the end of this UI frame
   WindowView window;               ///< set by the viewer before each step
   std::optional<std::array<int, 2>> window_request;  ///< a window size (screen units) to set after this step
-  bool window_pending = false;                        ///< a `window` command asked and waits for the result
-  std::chrono::steady_clock::time_point window_deadline{};
 
   bool done() const { return next >= commands.size(); }
   /// Runs commands until one has to wait for frames or time, or asks for a screenshot.

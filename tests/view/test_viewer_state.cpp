@@ -874,11 +874,11 @@ TEST(Script, AWindowSizeTheWindowSystemRefusesFailsAfterItsDeadline) {
     step_with_window(run, st, view);
     step_with_window(run, st, view);
     EXPECT_FALSE(run.quit) << sized;
-    run.window_deadline = std::chrono::steady_clock::now();  // as if 10 s had passed
+    run.deadline = std::chrono::steady_clock::now();  // as if 10 s had passed
     step_with_window(run, st, view);
     EXPECT_TRUE(run.quit) << sized;
     EXPECT_EQ(run.failures, 1) << sized;
-    EXPECT_FALSE(run.window_pending);
+    EXPECT_FALSE(run.deadline);
   }
 }
 
