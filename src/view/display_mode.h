@@ -23,6 +23,9 @@ inline constexpr EnumName<DisplayMode> kDisplayModeNames[] = {{DisplayMode::imag
                                                               {DisplayMode::samples, "samples"},
                                                               {DisplayMode::reference_error, "reference-error"}};
 
+/// Whether `mode` needs the session's per-pixel maps (error and spp), which the session publishes only on demand.
+inline bool needs_maps(DisplayMode mode) { return mode == DisplayMode::error || mode == DisplayMode::samples; }
+
 /// The value range of a heatmap, for its legend (colour bar with values).
 struct HeatLegend {
   std::string title;

@@ -129,9 +129,8 @@ Tier ViewerState::apply(const Edit& edit) {
       if (e.mode == DisplayMode::reference_error && !st.reference) return Tier::none;
       st.display_mode = e.mode;
       st.display_dirty = true;
-      bool maps = e.mode == DisplayMode::error || e.mode == DisplayMode::samples;
-      if (st.session) st.session->set_publish_maps(maps);
-      if (st.session_b) st.session_b->set_publish_maps(maps);
+      if (st.session) st.session->set_publish_maps(needs_maps(e.mode));
+      if (st.session_b) st.session_b->set_publish_maps(needs_maps(e.mode));
       return Tier::display;
     }
     Tier operator()(const AdaptiveEdit& e) const {
@@ -157,9 +156,7 @@ Tier ViewerState::apply(const Edit& edit) {
       if (st.compare && *st.compare == *e.b) return Tier::none;
       st.compare = e.b;
       if (st.session && !st.session_b) st.session_b = std::make_unique<RenderSession>(st.session->thread_count());
-      if (st.session_b)
-        st.session_b->set_publish_maps(st.display_mode == DisplayMode::error ||
-                                       st.display_mode == DisplayMode::samples);
+      if (st.session_b) st.session_b->set_publish_maps(needs_maps(st.display_mode));
       st.frame_b = SessionFrame{};
       st.display_dirty = true;
       return Tier::camera;  // both sides start together
@@ -297,22 +294,20 @@ void ViewerState::tick_compare() {
   if (session_b->paused() != !slice_b) session_b->set_paused(!slice_b);
 }
 
-void ViewerState::note_frame_b() {
-  bool comparable = reference && !frame_b.preview && frame_b.image.width == reference->width &&
-                    frame_b.image.height == reference->height;
-  frame_b_rel_mse =
-      comparable ? compare_images(frame_b.image, *reference).rel_mse : std::numeric_limits<double>::quiet_NaN();
+double ViewerState::rel_mse_to_reference(const SessionFrame& f) const {
+  const bool comparable =
+      reference && !f.preview && f.image.width == reference->width && f.image.height == reference->height;
+  return comparable ? compare_images(f.image, *reference).rel_mse : std::numeric_limits<double>::quiet_NaN();
 }
+
+void ViewerState::note_frame_b() { frame_b_rel_mse = rel_mse_to_reference(frame_b); }
 
 void ViewerState::note_frame() {
   if (!error_history.empty() && (frame.seconds < error_history.back().first || frame.preview)) error_history.clear();
   if (!frame.preview && frame.seconds > 0 && std::isfinite(frame.est_rel_mse) && frame.est_rel_mse > 0)
     error_history.emplace_back(frame.seconds, frame.est_rel_mse);
   if (error_history.size() > 4096) error_history.erase(error_history.begin(), error_history.begin() + 2048);
-  bool comparable = reference && !frame.preview && frame.image.width == reference->width &&
-                    frame.image.height == reference->height;
-  frame_rel_mse =
-      comparable ? compare_images(frame.image, *reference).rel_mse : std::numeric_limits<double>::quiet_NaN();
+  frame_rel_mse = rel_mse_to_reference(frame);
 }
 
 

@@ -107,6 +107,8 @@ struct ViewerState {
   /// once per fetched frame by note_frame, not per UI frame.
   double true_rel_mse() const { return frame_rel_mse; }
   double frame_rel_mse = std::numeric_limits<double>::quiet_NaN();
+  /// A full frame's relMSE against the reference; NaN for a preview, without a reference or at another size.
+  double rel_mse_to_reference(const SessionFrame& f) const;
 
   /// Applies an edit: the one place that chooses and performs the restart tier. Returns the tier performed (none
   /// when the edit was rejected or changed nothing).
