@@ -139,9 +139,6 @@ TEST(Viewer, OpensAndShowsANonUniformImage) {
   EXPECT_LE(p50, p95);
 }
 
-// The window shows the render itself: the screenshot's image area, at the place image_area gives, holds the image
-// `save` writes (the same display transform), the right way up and not mirrored. A screenshot read bottom-up would
-// still show a plausible picture.
 /// Mean absolute difference (of 255) between a window screenshot's image area and a saved render, which must fill
 /// it 1:1 (Xvfb has scale 1: window units are framebuffer pixels); the render flipped as asked. -1 if the render
 /// is not shown 1:1.
@@ -160,6 +157,9 @@ double shown_vs_saved(const Png& shot, const Png& render, bool flip_y = false, b
   return d / (3.0 * render.w * render.h);
 }
 
+// The window shows the render itself: the screenshot's image area, at the place image_area gives, holds the image
+// `save` writes (the same display transform), the right way up and not mirrored. A screenshot read bottom-up would
+// still show a plausible picture.
 TEST(Viewer, TheScreenshotShowsTheSavedImageTheRightWayUp) {
   REQUIRE_DISPLAY();
   TempDir dir;
@@ -459,8 +459,9 @@ TEST(Viewer, ASavedSceneRendersHeadlessAsTheViewerShowsIt) {
     std::string file = j["shapes"][0]["file"].get<std::string>();
     if (edit_light) {
       EXPECT_EQ(file, "saved.mesh0.obj");
+    } else {
+      EXPECT_EQ(file, "../cornell36.obj") << "an unedited mesh is named by its file, relative to the JSON";
     }
-    else EXPECT_EQ(file, "../cornell36.obj") << "an unedited mesh is named by its file, relative to the JSON";
     auto h = test::run_ptview({dir / "out/saved.json", "--frames", "3", "--size", "80x60", "--max-depth", "5",
                                "--out", dir / "out/headless.pfm"});
     ASSERT_EQ(h.exit_code, 0) << h.err;

@@ -775,14 +775,20 @@ TEST(Script, EveryMalformedFormIsRejectedWithItsLine) {
   }
 }
 
-/// Runs `text` as a --script on `st` the way the viewer's loop does (a finished load, the script's step, the
-/// compare's time slices, the newest frames), without a window. Returns the run once it is done, or after 60 s.
-ScriptRun run_script(ViewerState& st, const std::string& text) {
+/// A run of `text` (parsed as the file "s.txt"), not started.
+ScriptRun parsed_run(const std::string& text) {
   Result<std::vector<ScriptCommand>> commands = parse_script(text, "s.txt");
   EXPECT_TRUE(commands.ok()) << commands.error();
   ScriptRun run;
   run.file = "s.txt";
   if (commands.ok()) run.commands = *commands;
+  return run;
+}
+
+/// Runs `text` as a --script on `st` the way the viewer's loop does (a finished load, the script's step, the
+/// compare's time slices, the newest frames), without a window. Returns the run once it is done, or after 60 s.
+ScriptRun run_script(ViewerState& st, const std::string& text) {
+  ScriptRun run = parsed_run(text);
   const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(60);
   while (!run.done() && !run.quit && std::chrono::steady_clock::now() < end) {
     st.poll_load();
@@ -836,10 +842,7 @@ std::optional<std::array<int, 2>> step_with_window(ScriptRun& run, ViewerState& 
 TEST(Script, WindowAsksForTheSizeAndWaitsForTheRenderToFollow) {
   ViewerState st;
   st.init(builtin("cornell"), small_params(), {}, 1);  // 32 x 24
-  Result<std::vector<ScriptCommand>> commands = parse_script("window 600 500\nquit\n", "s.txt");
-  ASSERT_TRUE(commands.ok());
-  ScriptRun run;
-  run.commands = *commands;
+  ScriptRun run = parsed_run("window 600 500\nquit\n");
   EXPECT_EQ(step_with_window(run, st, {1000, 760, 640, 760, false}), (std::array<int, 2>{600, 500}));
   EXPECT_EQ(run.next, 0u);
   EXPECT_FALSE(step_with_window(run, st, {1000, 760, 640, 760, false}));  // asked once only
@@ -853,8 +856,7 @@ TEST(Script, WindowAsksForTheSizeAndWaitsForTheRenderToFollow) {
   EXPECT_TRUE(run.quit);
   EXPECT_EQ(run.failures, 0);
   // Locked: the window's size alone ends the wait.
-  ScriptRun locked;
-  locked.commands = *commands;
+  ScriptRun locked = parsed_run("window 600 500\nquit\n");
   step_with_window(locked, st, {1000, 760, 640, 760, true});
   EXPECT_FALSE(locked.quit);
   step_with_window(locked, st, {600, 500, 240, 500, true});
@@ -865,11 +867,8 @@ TEST(Script, WindowAsksForTheSizeAndWaitsForTheRenderToFollow) {
 TEST(Script, AWindowSizeTheWindowSystemRefusesFailsAfterItsDeadline) {
   ViewerState st;
   st.init(builtin("cornell"), small_params(), {}, 1);
-  Result<std::vector<ScriptCommand>> commands = parse_script("window 600 500\nquit\n", "s.txt");
-  ASSERT_TRUE(commands.ok());
   for (bool sized : {false, true}) {
-    ScriptRun run;
-    run.commands = *commands;
+    ScriptRun run = parsed_run("window 600 500\nquit\n");
     const WindowView view = sized ? WindowView{600, 500, 240, 500, false} : WindowView{1000, 760, 640, 760, true};
     step_with_window(run, st, view);
     step_with_window(run, st, view);
