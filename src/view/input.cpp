@@ -25,7 +25,7 @@ ImageArea image_area(int fb_w, int fb_h, int win_w, float panel_w, int render_w,
 ivec2 followed_size(const ImageArea& area) { return {std::min(area.w, 16384), std::min(area.h, 16384)}; }
 
 std::optional<ivec2> SizeFollower::update(const ImageArea& area, bool locked, ivec2 render, double now_seconds) {
-  if (locked || area.empty) return std::nullopt;
+  if (!follows_area(area, locked)) return std::nullopt;
   const ivec2 size = followed_size(area);
   if (size != want) {
     want = size;

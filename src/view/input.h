@@ -38,6 +38,9 @@ ImageArea image_area(int fb_w, int fb_h, int win_w, float panel_w, int render_w,
 /// The render size a window-sized render follows: the image area's, at most 16384 on a side.
 ivec2 followed_size(const ImageArea& area);
 
+/// Whether the render follows the image area: not when its size is locked, nor while the area is empty.
+inline bool follows_area(const ImageArea& area, bool locked) { return !locked && !area.empty; }
+
 /// Follows the window: once the image area has kept one size for `debounce` seconds (a drag is not a restart
 /// storm) and that size differs from the render's, update() returns the size to resize the render to. A locked
 /// size (--size, the Render panel's lock) and an empty area (a minimized window: its framebuffer is 0 x 0) are not

@@ -245,7 +245,7 @@ int run_viewer(const RenderParams& params, const DisplaySettings& display, const
     if (process_input(window, input, st, area, dt, io.WantCaptureMouse || divider_mouse, io.WantCaptureKeyboard))
       panels.open_material = true;
     const ivec2 follow_to = followed_size(area);
-    script.window = {ww, wh, follow_to.x, follow_to.y, panels.lock_size || area.empty};
+    script.window = {ww, wh, follow_to.x, follow_to.y, !follows_area(area, panels.lock_size)};
     if (!script.done()) script.step(st);
     if (script.window_request) glfwSetWindowSize(window, (*script.window_request)[0], (*script.window_request)[1]);
     const double seconds = std::chrono::duration<double>(now.time_since_epoch()).count();
