@@ -56,6 +56,7 @@ class RenderSession {
   bool paused() const { return paused_.load(); }
   /// Stop after this many samples per pixel (0: never).
   void set_target_spp(int spp);
+  int target_spp() const { return target_spp_.load(); }
   /// Adaptive sampling on/off and its threshold, without a restart: the stopped set is re-evaluated at once
   /// (lowering the threshold resumes stopped pixels; a converged session starts rendering again).
   void set_adaptive(const AdaptiveParams& adaptive);

@@ -165,9 +165,13 @@ void light_panel(ViewerState& st) {
       st.apply(LightShapeEdit{st.selected_light, {}, wh, {}});
     }
   }
+  // Relative: each frame of a drag scales by that frame's step. No text entry (ImGuiSliderFlags_NoInput): a typed
+  // factor would be applied again on every frame the field stayed active.
   float scale = 1.0f;
-  if (ImGui::DragFloat("scale", &scale, 0.005f, 0.5f, 2.0f, "x %.3f") && scale > 0.0f && scale != 1.0f)
+  if (ImGui::DragFloat("scale", &scale, 0.005f, 0.5f, 2.0f, "x %.3f", ImGuiSliderFlags_NoInput) && scale > 0.0f &&
+      scale != 1.0f)
     st.apply(LightShapeEdit{st.selected_light, {}, {}, scale});
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("drag to scale the light about its centre");
   vec3 center = pl.center;
   if (drag_vec3("position", center, 0.005f * unit)) st.apply(LightShapeEdit{st.selected_light, center, {}, {}});
   const Material& m = st.scene.materials[light.material];

@@ -1,0 +1,496 @@
+// The ImGui panels driven as a user drives them, without a window or GL: a headless ImGui context, the mouse moved
+// over the panels to find each widget (the widget under the mouse is ImGui's hovered id, and a widget's id is the
+// hash of its label under its parents' ids, as ImGui computes it), clicks, Ctrl+clicks that turn a slider into a
+// text field, typed text and Enter. Each test checks that the panel's change reached the viewer state through
+// ViewerState::apply (the one edit path: what changed, and whether rendering restarted), and that looking,
+// hovering, opening and collapsing never restart rendering.
+#include <gtest/gtest.h>
+
+#include <imgui.h>
+#include <imgui_internal.h>
+
+#include <cmath>
+#include <filesystem>
+#include <map>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "scene/load.h"
+#include "view/panels.h"
+#include "view/viewer_state.h"
+#include "temp_dir.h"
+
+namespace pt {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr float kPanelWidth = 360.0f, kPanelHeight = 1500.0f;
+// Our own key indices in io.KeysDown (ImGui 1.86 maps its named keys through io.KeyMap).
+constexpr int kEnter = 1, kKeyA = 2, kBackspace = 3;
+
+/// A widget's id: the hash of each label (or integer index) of its path, seeded by its parent's id, as ImGui's
+/// PushID and GetID compute it.
+struct IdPath {
+  ImGuiID id;
+  IdPath then(const char* label) const { return {ImHashStr(label, 0, id)}; }
+  IdPath then(int index) const { return {ImHashData(&index, sizeof index, id)}; }
+};
+
+/// One headless ImGui context drawing draw_panels over a viewer state rendering the built-in Cornell box.
+class PanelHarness {
+ public:
+  PanelHarness() {
+    ctx_ = ImGui::CreateContext();
+    ImGuiIO& io = ImGui::GetIO();
+    io.IniFilename = nullptr;
+    io.DisplaySize = ImVec2(kPanelWidth + 40.0f, kPanelHeight);
+    io.DeltaTime = 1.0f / 60.0f;
+    io.KeyMap[ImGuiKey_Enter] = kEnter;
+    io.KeyMap[ImGuiKey_A] = kKeyA;
+    io.KeyMap[ImGuiKey_Backspace] = kBackspace;
+    unsigned char* pixels = nullptr;
+    int w = 0, h = 0;
+    io.Fonts->GetTexDataAsAlpha8(&pixels, &w, &h);  // builds the font atlas NewFrame needs
+    io.MousePos = ImVec2(-1e4f, -1e4f);
+  }
+  ~PanelHarness() { ImGui::DestroyContext(ctx_); }
+  PanelHarness(const PanelHarness&) = delete;
+  PanelHarness& operator=(const PanelHarness&) = delete;
+
+  ViewerState st;
+  PanelState ps;
+
+  /// One UI frame: the latest rendered frame fetched, as the viewer does, and the panels drawn.
+  void frame() {
+    if (st.session->fetch(st.frame)) st.note_frame();
+    ImGui::NewFrame();
+    draw_panels(st, ps, kPanelWidth, kPanelHeight);
+    ImGui::Render();
+    ImGuiIO& io = ImGui::GetIO();
+    for (bool& k : io.KeysDown) k = false;
+  }
+  void frames(int n) {
+    for (int i = 0; i < n; ++i) frame();
+  }
+
+  static IdPath panel() { return {ImGui::FindWindowByName("ptview")->ID}; }
+  /// The open combo's list (ImGui draws it as a popup window).
+  static IdPath popup() { return {popup_window()->ID}; }
+
+  /// Where the mouse hovers `target`: the main window's (or the open popup's) area swept row by row. Fails the
+  /// test when no point does.
+  ImVec2 find(IdPath target) {
+    if (auto known = found_.find(target.id); known != found_.end()) {  // where it was, unless the layout moved
+      ImGui::GetIO().MousePos = known->second;
+      frame();
+      if (ImGui::GetCurrentContext()->HoveredId == target.id) return known->second;
+    }
+    ImGuiWindow* w = ImGui::GetCurrentContext()->OpenPopupStack.empty() ? ImGui::FindWindowByName("ptview")
+                                                                        : popup_window();
+    const ImVec2 lo = w->Pos, hi = ImVec2(w->Pos.x + w->Size.x, w->Pos.y + w->Size.y);
+    for (float y = lo.y + 1.0f; y < hi.y; y += 3.0f)
+      for (float x = lo.x + 4.0f; x < hi.x; x += 9.0f) {
+        ImGui::GetIO().MousePos = ImVec2(x, y);
+        frame();
+        if (ImGui::GetCurrentContext()->HoveredId == target.id) return found_[target.id] = ImVec2(x, y);
+      }
+    ADD_FAILURE() << "no widget with id " << target.id << " under the mouse";
+    return ImVec2(-1e4f, -1e4f);
+  }
+
+  /// Press and release the left button over `target` (a button, checkbox, header, combo or list entry).
+  void click(IdPath target, bool ctrl = false) {
+    ImGuiIO& io = ImGui::GetIO();
+    io.MousePos = find(target);
+    io.KeyCtrl = ctrl;
+    io.MouseDown[0] = true;
+    frame();
+    io.MouseDown[0] = false;
+    frame();
+    io.KeyCtrl = false;
+    frame();
+  }
+  /// Ctrl+click a slider or drag (a text field then) or click a text field, replace its text and press Enter.
+  void type(IdPath target, std::string_view text, bool ctrl_click = true) {
+    click(target, ctrl_click);
+    ImGuiIO& io = ImGui::GetIO();
+    io.KeyCtrl = true;  // select all
+    io.KeysDown[kKeyA] = true;
+    frame();
+    io.KeyCtrl = false;
+    io.KeysDown[kBackspace] = true;
+    frame();
+    for (char c : text) io.AddInputCharacter(static_cast<unsigned>(c));
+    frame();
+    io.KeysDown[kEnter] = true;
+    frame();
+    frames(2);
+  }
+  /// Press the left button over `target`, move the mouse `dx` to the right, release (a drag).
+  void drag(IdPath target, float dx) {
+    ImGuiIO& io = ImGui::GetIO();
+    io.MousePos = find(target);
+    io.MouseDown[0] = true;
+    frame();
+    io.MousePos.x += dx;
+    frame();
+    io.MouseDown[0] = false;
+    frames(2);
+  }
+  /// Open the combo `combo` and pick the entry `entry`.
+  void choose(IdPath combo, const char* entry) {
+    click(combo);
+    ASSERT_FALSE(ImGui::GetCurrentContext()->OpenPopupStack.empty()) << "the combo did not open";
+    click(popup().then(entry));
+    EXPECT_TRUE(ImGui::GetCurrentContext()->OpenPopupStack.empty()) << "the combo stayed open";
+  }
+  /// Move the mouse away from every widget.
+  void leave() {
+    ImGui::GetIO().MousePos = ImVec2(-1e4f, -1e4f);
+    frames(2);
+  }
+
+ private:
+  static ImGuiWindow* popup_window() { return ImGui::GetCurrentContext()->OpenPopupStack.back().Window; }
+  ImGuiContext* ctx_ = nullptr;
+  std::map<ImGuiID, ImVec2> found_;
+};
+
+Scene builtin(std::string_view name) {
+  Result<Scene> s = load_builtin_scene(name);
+  EXPECT_TRUE(s.ok()) << name;
+  return std::move(*s);
+}
+
+RenderParams small_params() {
+  RenderParams p;
+  p.width = 32;
+  p.height = 24;
+  p.max_depth = 4;
+  p.threads = 1;
+  return p;
+}
+
+/// A harness over `scene` (the Cornell box by default), its session rendering on one thread.
+void start(PanelHarness& h, Scene scene = builtin("cornell")) {
+  h.st.init(std::move(scene), small_params(), {}, 1);
+  h.frames(2);
+}
+
+/// A 4 x 4 floor under a sphere light of radius 0.2 (no built-in scene has a sphere light).
+Scene floor_under_a_sphere_light() {
+  Scene s;
+  Material floor, lamp;
+  floor.name = "floor";
+  lamp.name = "lamp";
+  lamp.emission = vec3(2.0f);
+  s.materials = {floor, lamp};
+  s.quads.push_back({vec3(-2, 0, 2), vec3(4, 0, 0), vec3(0, 0, -4), 0});
+  s.spheres.push_back({{vec3(0.5f, 1.5f, -0.25f), 0.2f}, 1});
+  s.camera = Camera{};
+  s.camera->eye = vec3(0, 1, 4);
+  s.camera->target = vec3(0, 0.5f, 0);
+  return s;
+}
+
+TEST(Panels, LookingHoveringOpeningAndClosingNeverRestart) {
+  PanelHarness h;
+  start(h);
+  const int restarts = h.st.restarts;
+  const RenderParams before = h.st.params;
+  // Sweep the mouse over every row of the column (find fails only at the end, for an id no widget has).
+  ImGuiWindow* w = ImGui::FindWindowByName("ptview");
+  for (float y = w->Pos.y; y < w->Pos.y + w->Size.y; y += 5.0f)
+    for (float x = 2.0f; x < kPanelWidth; x += 25.0f) {
+      ImGui::GetIO().MousePos = ImVec2(x, y);
+      h.frame();
+    }
+  h.click(PanelHarness::panel().then("Camera"));   // opens
+  h.click(PanelHarness::panel().then("Compare"));  // opens
+  h.click(PanelHarness::panel().then("Render"));   // collapses
+  h.click(PanelHarness::panel().then("Render"));   // opens again
+  h.click(PanelHarness::panel().then("Camera"));   // collapses
+  h.leave();
+  EXPECT_EQ(h.st.restarts, restarts);
+  EXPECT_EQ(h.st.params.max_depth, before.max_depth);
+  EXPECT_EQ(h.st.params.integrator, before.integrator);
+  EXPECT_FALSE(h.st.compare.has_value());
+}
+
+/// Whether the collapsing header `label` of the column, open by default, is open (ImGui keeps the state in the
+/// window's storage once it has changed).
+bool default_open_header_is_open(const char* label) {
+  return ImGui::FindWindowByName("ptview")->StateStorage.GetInt(PanelHarness::panel().then(label).id, 1) != 0;
+}
+
+TEST(Panels, PickingAnObjectBringsTheMaterialPanelForward) {
+  PanelHarness h;
+  start(h);
+  ASSERT_TRUE(default_open_header_is_open("Material"));  // open by default
+  h.click(PanelHarness::panel().then("Material"));
+  ASSERT_FALSE(default_open_header_is_open("Material"));
+  h.ps.open_material = true;  // as a click in the image does
+  h.frame();
+  EXPECT_TRUE(default_open_header_is_open("Material"));
+  EXPECT_FALSE(h.ps.open_material);
+  h.click(PanelHarness::panel().then("Material"));  // and the user can close it again
+  EXPECT_FALSE(default_open_header_is_open("Material"));
+}
+
+TEST(Panels, TheRenderPanelsSettingsRestartWithTheNewParameters) {
+  PanelHarness h;
+  start(h);
+  const IdPath p = PanelHarness::panel();
+  int restarts = h.st.restarts;
+  h.choose(p.then("integrator"), "bsdf");
+  EXPECT_EQ(h.st.params.integrator, IntegratorKind::bsdf);
+  EXPECT_EQ(h.st.restarts, ++restarts);
+  h.choose(p.then("light sampling"), "area");
+  EXPECT_EQ(h.st.params.light_sampling, LightSampling::area);
+  h.choose(p.then("sampler"), "independent");
+  EXPECT_EQ(h.st.params.sampler, SamplerKind::independent);
+  restarts = h.st.restarts;
+  h.type(p.then("max depth"), "3");
+  EXPECT_EQ(h.st.params.max_depth, 3);
+  EXPECT_EQ(h.st.restarts, restarts + 1);
+  h.type(p.then("spp / frame"), "5");
+  EXPECT_EQ(h.st.params.spp_per_frame, 5);
+  h.type(p.then("threads"), "2");
+  EXPECT_EQ(h.st.params.threads, 2);
+  // The size applies on Enter only, and locks it (the render no longer follows the window).
+  ASSERT_FALSE(h.ps.lock_size);
+  h.type(p.then("size").then(0), "20", false);
+  h.type(p.then("size").then(1), "0", false);  // clamped to 1
+  EXPECT_EQ(h.st.params.width, 20);
+  EXPECT_EQ(h.st.params.height, 1);
+  EXPECT_TRUE(h.ps.lock_size);
+  h.click(p.then("lock"));
+  EXPECT_FALSE(h.ps.lock_size);
+  // The same choice again restarts nothing.
+  restarts = h.st.restarts;
+  h.choose(p.then("integrator"), "bsdf");
+  EXPECT_EQ(h.st.restarts, restarts);
+  h.click(p.then("restart"));
+  EXPECT_EQ(h.st.restarts, restarts + 1);
+}
+
+TEST(Panels, PauseAdaptiveSamplingAndStopAtSppDoNotRestart) {
+  PanelHarness h;
+  start(h);
+  const IdPath p = PanelHarness::panel();
+  const int restarts = h.st.restarts;
+  h.click(p.then("pause"));
+  EXPECT_TRUE(h.st.paused);
+  EXPECT_TRUE(h.st.session->paused());
+  h.click(p.then("pause"));
+  EXPECT_FALSE(h.st.session->paused());
+  ASSERT_FALSE(h.st.adaptive.enabled());
+  h.click(p.then("adaptive"));
+  EXPECT_TRUE(h.st.adaptive.enabled());
+  EXPECT_NEAR(h.st.adaptive.noise_threshold, 0.01, 1e-6);  // the slider's value while it was off
+  h.type(p.then("threshold"), "0.05");
+  EXPECT_NEAR(h.st.adaptive.noise_threshold, 0.05, 1e-6);
+  h.click(p.then("adaptive"));
+  EXPECT_FALSE(h.st.adaptive.enabled());
+  EXPECT_NEAR(h.ps.noise_threshold, 0.05, 1e-6);  // kept for the next time it is turned on
+  h.click(p.then("adaptive"));
+  EXPECT_NEAR(h.st.adaptive.noise_threshold, 0.05, 1e-6);
+  h.type(p.then("stop at spp").then(""), "7", false);
+  EXPECT_EQ(h.ps.target_spp, 7);
+  EXPECT_EQ(h.st.session->target_spp(), 7);
+  h.type(p.then("stop at spp").then(""), "-4", false);
+  EXPECT_EQ(h.ps.target_spp, 0);
+  EXPECT_EQ(h.st.session->target_spp(), 0);
+  EXPECT_EQ(h.st.restarts, restarts);
+}
+
+TEST(Panels, SaveImageWritesTheFileOrSaysWhichExtensionsWork) {
+  test::TempDir dir;
+  PanelHarness h;
+  start(h);
+  const IdPath p = PanelHarness::panel();
+  const std::string bad = (dir.path / "image.bmp").string(), good = (dir.path / "image.pfm").string();
+  h.type(p.then("file"), bad, false);
+  EXPECT_EQ(h.ps.save_path, bad);
+  h.click(p.then("save image"));
+  EXPECT_EQ(h.st.status, bad + ": use .png, .exr or .pfm");
+  EXPECT_FALSE(fs::exists(bad));
+  h.type(p.then("file"), good, false);
+  h.click(p.then("save image"));
+  for (auto& f : h.st.saves) f.wait();
+  EXPECT_TRUE(fs::exists(good));
+}
+
+TEST(Panels, TheCameraPanelMovesTheCameraAndResetsIt) {
+  PanelHarness h;
+  start(h);
+  const IdPath p = PanelHarness::panel();
+  h.click(p.then("Camera"));
+  const Camera home = h.st.home_camera;
+  int restarts = h.st.restarts;
+  ASSERT_NE(home.fov_deg, 30.0f);
+  h.type(p.then("fov"), "30");
+  EXPECT_FLOAT_EQ(h.st.scene.camera->fov_deg, 30.0f);
+  EXPECT_EQ(h.st.restarts, ++restarts);
+  h.type(p.then("eye").then(1), "0.25");
+  EXPECT_FLOAT_EQ(h.st.scene.camera->eye.y, 0.25f);
+  EXPECT_FLOAT_EQ(h.st.scene.camera->eye.x, home.eye.x);
+  h.type(p.then("target").then(2), "-1.5");
+  EXPECT_FLOAT_EQ(h.st.scene.camera->target.z, -1.5f);
+  h.type(p.then("orbit distance"), "2");
+  EXPECT_NEAR(glm::length(h.st.scene.camera->eye - h.st.scene.camera->target), 2.0f, 1e-4f);
+  restarts = h.st.restarts;
+  h.click(p.then("reset camera (R)"));
+  EXPECT_EQ(h.st.scene.camera->eye, home.eye);
+  EXPECT_EQ(h.st.scene.camera->target, home.target);
+  EXPECT_EQ(h.st.scene.camera->fov_deg, home.fov_deg);
+  EXPECT_EQ(h.st.restarts, restarts + 1);
+}
+
+TEST(Panels, TheMaterialPanelEditsTheChosenMaterial) {
+  PanelHarness h;
+  start(h);
+  const IdPath p = PanelHarness::panel();
+  ASSERT_GE(h.st.scene.materials.size(), 2u);
+  const size_t i = 1;
+  const std::string name = h.st.scene.materials[i].name;
+  ASSERT_FALSE(name.empty());
+  h.choose(p.then("material"), (name + "##" + std::to_string(i)).c_str());
+  ASSERT_EQ(h.st.selected_material, int(i));
+  int restarts = h.st.restarts;
+  h.type(p.then("albedo").then("##Y"), "128");  // ColorEdit3's components are 0-255 integers
+  EXPECT_NEAR(h.st.scene.materials[i].albedo.y, 128.0f / 255.0f, 1e-6f);
+  EXPECT_EQ(h.st.restarts, ++restarts);
+  h.type(p.then("albedo").then("##X"), "51");
+  EXPECT_NEAR(h.st.scene.materials[i].albedo.x, 0.2f, 1e-6f);
+  h.type(p.then("emission").then("##Z"), "3.5");
+  EXPECT_FLOAT_EQ(h.st.scene.materials[i].emission.z, 3.5f);
+  h.choose(p.then("type"), "glass");
+  EXPECT_EQ(h.st.scene.materials[i].type, MaterialType::glass);
+  h.type(p.then("ior"), "1.8");
+  EXPECT_FLOAT_EQ(h.st.scene.materials[i].ior, 1.8f);
+  EXPECT_EQ(h.st.scene.materials[i].name, name);
+  EXPECT_EQ(h.st.selected_material, int(i));
+}
+
+TEST(Panels, TheLightPanelResizesMovesAndDimsTheChosenLight) {
+  PanelHarness h;
+  start(h);
+  const IdPath p = PanelHarness::panel();
+  ASSERT_EQ(h.st.lights.size(), 1u);
+  const LightPlacement before = light_placement(h.st.scene, h.st.lights[0]);
+  int restarts = h.st.restarts;
+  h.type(p.then("size W x H").then(0), "0.125");
+  LightPlacement now = light_placement(h.st.scene, h.st.lights[0]);
+  EXPECT_NEAR(now.size.x, 0.125f, 1e-5f);
+  EXPECT_NEAR(now.size.y, before.size.y, 1e-5f);
+  EXPECT_NEAR(glm::length(now.center - before.center), 0.0f, 1e-5f);
+  EXPECT_EQ(h.st.restarts, ++restarts);
+  // The scale is relative (every frame of a drag scales by its own step): it has no value to type, and a typed one
+  // would have been applied on every frame it stayed in the field.
+  h.type(p.then("scale"), "1.5");
+  now = light_placement(h.st.scene, h.st.lights[0]);
+  EXPECT_NEAR(now.size.x, 0.125f, 1e-5f);
+  h.drag(p.then("scale"), 20.0f);  // 20 px at 0.005 a pixel
+  now = light_placement(h.st.scene, h.st.lights[0]);
+  EXPECT_NEAR(now.size.x, 0.1375f, 1e-5f);
+  EXPECT_NEAR(now.size.y, 1.1f * before.size.y, 1e-5f);
+  h.type(p.then("position").then(0), "0.25");
+  now = light_placement(h.st.scene, h.st.lights[0]);
+  EXPECT_NEAR(now.center.x, 0.25f, 1e-5f);
+  EXPECT_NEAR(now.center.y, before.center.y, 1e-5f);
+  const Material& m = h.st.scene.materials[h.st.lights[0].material];
+  const vec3 emission = m.emission;
+  h.type(p.then("intensity"), "3");
+  EXPECT_NEAR(max_component(m.emission), 3.0f, 1e-5f);
+  EXPECT_NEAR(m.emission.y / m.emission.x, emission.y / emission.x, 1e-5f);  // the colour kept
+  h.type(p.then("color").then("##Z"), "0");
+  EXPECT_EQ(m.emission.z, 0.0f);
+  EXPECT_NEAR(max_component(m.emission), 3.0f, 1e-5f);
+}
+
+TEST(Panels, TheLightPanelResizesASphereByItsRadius) {
+  PanelHarness h;
+  start(h, floor_under_a_sphere_light());
+  const IdPath p = PanelHarness::panel();
+  ASSERT_EQ(h.st.lights.size(), 1u);
+  ASSERT_EQ(h.st.lights[0].kind, SceneLightKind::sphere);
+  const int restarts = h.st.restarts;
+  h.type(p.then("radius"), "0.0625");
+  EXPECT_FLOAT_EQ(h.st.scene.spheres[0].radius, 0.0625f);
+  EXPECT_EQ(h.st.scene.spheres[0].center, vec3(0.5f, 1.5f, -0.25f));
+  EXPECT_EQ(h.st.restarts, restarts + 1);
+}
+
+TEST(Panels, TheDisplayPanelChangesTheViewWithoutARestart) {
+  PanelHarness h;
+  start(h);
+  const IdPath p = PanelHarness::panel();
+  const int restarts = h.st.restarts;
+  h.type(p.then("exposure"), "1.5");
+  EXPECT_FLOAT_EQ(h.st.display.exposure, 1.5f);
+  h.choose(p.then("tonemap"), "aces");
+  EXPECT_EQ(h.st.display.tonemap, Tonemap::aces);
+  h.choose(p.then("show"), "samples");
+  EXPECT_EQ(h.st.display_mode, DisplayMode::samples);
+  h.choose(p.then("show"), "reference-error");  // no --reference: refused, and said so
+  EXPECT_EQ(h.st.display_mode, DisplayMode::samples);
+  EXPECT_EQ(h.st.status, "reference-error needs --reference");
+  EXPECT_EQ(h.st.restarts, restarts);
+}
+
+TEST(Panels, TheComparePanelStartsAndEndsACompare) {
+  PanelHarness h;
+  start(h);
+  const IdPath p = PanelHarness::panel();
+  h.click(p.then("Compare"));
+  h.click(p.then("compare A | B"));
+  ASSERT_TRUE(h.st.compare.has_value());
+  EXPECT_EQ(h.st.compare->integrator, h.st.params.integrator);  // B starts as A
+  h.choose(p.then("B sampler"), "independent");
+  EXPECT_EQ(h.st.compare->sampler, SamplerKind::independent);
+  h.choose(p.then("B integrator"), "nee");
+  EXPECT_EQ(h.st.compare->integrator, IntegratorKind::nee);
+  h.choose(p.then("B light sampling"), "area");
+  EXPECT_EQ(h.st.compare->light_sampling, LightSampling::area);
+  h.click(p.then("B adaptive"));
+  EXPECT_NEAR(h.st.compare->adaptive.noise_threshold, 0.01, 1e-6);
+  h.type(p.then("##Bthreshold"), "0.2");
+  EXPECT_NEAR(h.st.compare->adaptive.noise_threshold, 0.2, 1e-6);
+  const int restarts = h.st.restarts;
+  h.type(p.then("divider"), "0.25");
+  EXPECT_FLOAT_EQ(h.st.divider, 0.25f);
+  EXPECT_EQ(h.st.restarts, restarts);
+  h.type(p.then("stop at spp").then(""), "9", false);  // both sides stop there
+  EXPECT_EQ(h.st.session->target_spp(), 9);
+  EXPECT_EQ(h.st.session_b->target_spp(), 9);
+  h.click(p.then("compare A | B"));
+  EXPECT_FALSE(h.st.compare.has_value());
+  EXPECT_EQ(h.st.params.sampler, SamplerKind::sobol);  // A kept its own settings
+}
+
+TEST(Panels, TheScenePanelSavesAndOpensScenes) {
+  test::TempDir dir;
+  PanelHarness h;
+  start(h);
+  const IdPath p = PanelHarness::panel();
+  h.click(p.then("Scene"));
+  const std::string saved = (dir.path / "saved.json").string();
+  h.type(p.then("scene file"), saved, false);
+  h.click(p.then("save scene"));
+  ASSERT_TRUE(fs::exists(saved));
+  EXPECT_EQ(h.st.status, "saved " + saved);
+  const std::string other = (dir.path / "other.json").string();
+  fs::copy_file(saved, other);
+  h.type(p.then("path"), other, false);
+  h.click(p.then("open OBJ / JSON / glTF"));
+  ASSERT_TRUE(h.st.loading.valid());
+  h.st.loading.wait();
+  EXPECT_TRUE(h.st.poll_load());
+  EXPECT_EQ(h.st.scene.source, other);
+}
+
+}  // namespace
+}  // namespace pt
