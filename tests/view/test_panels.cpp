@@ -339,8 +339,10 @@ TEST(Panels, TheCameraPanelMovesTheCameraAndResetsIt) {
   EXPECT_FLOAT_EQ(h.st.scene.camera->eye.x, home.eye.x);
   h.type(p.then("target").then(2), "-1.5");
   EXPECT_FLOAT_EQ(h.st.scene.camera->target.z, -1.5f);
+  restarts = h.st.restarts;
   h.type(p.then("orbit distance"), "2");
   EXPECT_NEAR(glm::length(h.st.scene.camera->eye - h.st.scene.camera->target), 2.0f, 1e-4f);
+  EXPECT_EQ(h.st.restarts, restarts + 1);
   restarts = h.st.restarts;
   h.click(p.then("reset camera (R)"));
   EXPECT_EQ(h.st.scene.camera->eye, home.eye);
@@ -367,8 +369,12 @@ TEST(Panels, TheMaterialPanelEditsTheChosenMaterial) {
   EXPECT_NEAR(h.st.scene.materials[i].albedo.x, 0.2f, 1e-6f);
   h.type(p.then("emission").then("##Z"), "3.5");
   EXPECT_FLOAT_EQ(h.st.scene.materials[i].emission.z, 3.5f);
+  restarts = h.st.restarts;
+  h.choose(p.then("type"), name_of(h.st.scene.materials[i].type));  // the same type again: nothing to restart
+  EXPECT_EQ(h.st.restarts, restarts);
   h.choose(p.then("type"), "glass");
   EXPECT_EQ(h.st.scene.materials[i].type, MaterialType::glass);
+  EXPECT_EQ(h.st.restarts, restarts + 1);
   h.type(p.then("ior"), "1.8");
   EXPECT_FLOAT_EQ(h.st.scene.materials[i].ior, 1.8f);
   EXPECT_EQ(h.st.scene.materials[i].name, name);
@@ -459,6 +465,8 @@ TEST(Panels, TheComparePanelStartsAndEndsACompare) {
   EXPECT_NEAR(h.st.compare->adaptive.noise_threshold, 0.01, 1e-6);
   h.type(p.then("##Bthreshold"), "0.2");
   EXPECT_NEAR(h.st.compare->adaptive.noise_threshold, 0.2, 1e-6);
+  h.click(p.then("B adaptive"));
+  EXPECT_FALSE(h.st.compare->adaptive.enabled());
   const int restarts = h.st.restarts;
   h.type(p.then("divider"), "0.25");
   EXPECT_FLOAT_EQ(h.st.divider, 0.25f);
