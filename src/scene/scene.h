@@ -49,6 +49,7 @@ struct Material {
   float ior = 1.5f;     ///< glass only: index of refraction inside / outside
   vec3 emission{0.0f};  ///< emitted radiance (W / m^2 / sr), front side only
   bool emissive() const { return emission.x > 0.0f || emission.y > 0.0f || emission.z > 0.0f; }
+  bool operator==(const Material&) const = default;
 };
 
 /// Pinhole camera; the exact ray model is in render/camera.h (and README).
@@ -57,6 +58,7 @@ struct Camera {
   vec3 target{0.0f};
   vec3 up{0.0f, 1.0f, 0.0f};
   float fov_deg = 40.0f;  ///< vertical field of view
+  bool operator==(const Camera&) const = default;
 };
 
 struct Sphere : SphereShape {

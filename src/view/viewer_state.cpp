@@ -112,7 +112,7 @@ Tier ViewerState::apply(const Edit& edit) {
   struct V {
     ViewerState& st;
     Tier operator()(const CameraEdit& e) const {
-      if (!valid_camera(e.camera)) return Tier::none;
+      if (!valid_camera(e.camera) || st.scene.camera == e.camera) return Tier::none;
       st.scene.camera = e.camera;
       return Tier::camera;
     }
@@ -168,16 +168,15 @@ Tier ViewerState::apply(const Edit& edit) {
     }
     Tier operator()(const MaterialEdit& e) const {
       if (e.index < 0 || size_t(e.index) >= st.scene.materials.size()) return Tier::none;
-      st.scene.materials[size_t(e.index)] = normalized(e.material);
-      return Tier::material;
+      return st.set_material(size_t(e.index), e.material);
     }
     Tier operator()(const LightShapeEdit& e) const {
       if (e.light < 0 || size_t(e.light) >= st.lights.size()) return Tier::none;
       SceneLight& l = st.lights[size_t(e.light)];
-      bool changed = false;
-      if (e.size) changed |= resize_light(st.scene, l, *e.size);
-      if (e.scale) changed |= scale_light(st.scene, l, *e.scale);
-      if (e.center && is_finite(*e.center)) {
+      bool changed = false;  // a size, factor or centre that is the light's already changes nothing
+      if (e.size && *e.size != light_placement(st.scene, l).size) changed |= resize_light(st.scene, l, *e.size);
+      if (e.scale && *e.scale != 1.0f) changed |= scale_light(st.scene, l, *e.scale);
+      if (e.center && is_finite(*e.center) && *e.center != light_placement(st.scene, l).center) {
         move_light(st.scene, l, *e.center);
         changed = true;
       }
@@ -185,10 +184,10 @@ Tier ViewerState::apply(const Edit& edit) {
     }
     Tier operator()(const LightEmissionEdit& e) const {
       if (e.light < 0 || size_t(e.light) >= st.lights.size()) return Tier::none;
-      Material m = st.scene.materials[st.lights[size_t(e.light)].material];
+      const uint32_t index = st.lights[size_t(e.light)].material;
+      Material m = st.scene.materials[index];
       m.emission = glm::max(e.color, vec3(0.0f)) * std::max(e.intensity, 0.0f);
-      st.scene.materials[st.lights[size_t(e.light)].material] = normalized(m);
-      return Tier::material;
+      return st.set_material(index, m);
     }
     Tier operator()(const SceneEdit& e) const {
       if (!e.loaded) return Tier::none;
@@ -204,6 +203,14 @@ Tier ViewerState::apply(const Edit& edit) {
     Tier operator()(const RestartEdit&) const { return Tier::camera; }
   };
   return commit(std::visit(V{*this}, edit));
+}
+
+Tier ViewerState::set_material(size_t index, const Material& m) {
+  Material& current = scene.materials[index];
+  const Material n = normalized(m);
+  if (n == current) return Tier::none;
+  current = n;
+  return Tier::material;
 }
 
 void ViewerState::start_load(const std::string& path) {

@@ -111,7 +111,8 @@ struct ViewerState {
   double rel_mse_to_reference(const SessionFrame& f) const;
 
   /// Applies an edit: the one place that chooses and performs the restart tier. Returns the tier performed (none
-  /// when the edit was rejected or changed nothing).
+  /// when the edit was rejected or changed nothing: an edit to the values already there, such as the camera reset
+  /// at the home camera, keeps the samples).
   Tier apply(const Edit& edit);
 
   /// Starts loading a scene file in the background; the current scene stays live until it is ready.
@@ -136,6 +137,8 @@ struct ViewerState {
   int render_threads() const;
 
  private:
+  /// Material `index` set to `m`, normalized; Tier::none when that is what it already was.
+  Tier set_material(size_t index, const Material& m);
   void restart();
   Tier commit(Tier tier);
 };

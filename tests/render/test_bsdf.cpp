@@ -171,7 +171,9 @@ TEST(Diffuse, PdfIntegratesToTheChanceOfASampleUnderATiltedNormal) {
     }
     const double chance = double(returned) / n;
     EXPECT_NEAR(integral / n, chance, 0.015) << "tilt " << tilt;
-    if (tilt == 1.0f) EXPECT_LT(chance, 0.9);  // the tilt does refuse samples: the check is not vacuous
+    if (tilt == 1.0f) {
+      EXPECT_LT(chance, 0.9);  // the tilt does refuse samples: the check is not vacuous
+    }
   }
 }
 

@@ -141,6 +141,32 @@ TEST(Tiers, EveryEditKindTakesItsTierAndCostsWhatItShould) {
   EXPECT_EQ(st.restarts, restarts);
 }
 
+TEST(Tiers, AnEditToTheValuesAlreadyThereKeepsTheSamples) {
+  ViewerState st;
+  st.init(builtin("cornell"), small_params(), {}, -1);
+  ASSERT_EQ(st.lights.size(), 1u);
+  const int restarts = st.restarts;
+  EXPECT_EQ(st.apply(CameraEdit{*st.scene.camera}), Tier::none) << "the reset camera key at the home camera";
+  EXPECT_EQ(st.apply(MaterialEdit{1, st.scene.materials[1]}), Tier::none);
+  Material unnormalized = st.scene.materials[1];
+  unnormalized.albedo.x = 3.0f;  // clamps to 1: a change unless it was 1 already
+  EXPECT_EQ(st.apply(MaterialEdit{1, unnormalized}), Tier::material);
+  EXPECT_EQ(st.apply(MaterialEdit{1, unnormalized}), Tier::none) << "the same after normalizing";
+  const Material& light = st.scene.materials[st.lights[0].material];
+  const float intensity = max_component(light.emission);
+  EXPECT_EQ(st.apply(LightEmissionEdit{0, light.emission / intensity, intensity}), Tier::none);
+  const LightPlacement pl = light_placement(st.scene, st.lights[0]);
+  EXPECT_EQ(st.apply(LightShapeEdit{0, pl.center, {}, {}}), Tier::none);
+  EXPECT_EQ(st.apply(LightShapeEdit{0, {}, pl.size, {}}), Tier::none);
+  EXPECT_EQ(st.apply(LightShapeEdit{0, {}, {}, 1.0f}), Tier::none);
+  EXPECT_EQ(st.restarts, restarts + 1);
+  EXPECT_EQ(st.geometry_refits, 0);
+  Camera moved = *st.scene.camera;
+  moved.fov_deg += 1.0f;
+  EXPECT_EQ(st.apply(CameraEdit{moved}), Tier::camera);
+  EXPECT_EQ(st.apply(LightShapeEdit{0, pl.center + vec3(0.1f, 0.0f, 0.0f), {}, {}}), Tier::light_refit);
+}
+
 TEST(Tiers, TierOfAgreesWithApplyForEveryKind) {
   EXPECT_EQ(tier_of(DisplayEdit{}), Tier::display);
   EXPECT_EQ(tier_of(CameraEdit{}), Tier::camera);
@@ -574,18 +600,22 @@ TEST(SceneLights, AShearedTriangleLightIsMeasuredAndResizedAlongItsSides) {
 
 TEST(SceneLights, ResizingAFoldedLightKeepsItsRelief) {
   // Two emissive triangles meeting at a fold (one corner raised): a resize works in the light's mean plane and
-  // keeps each corner's height above it, so resizing to the size it has changes nothing.
+  // keeps each corner's height above it, so resizing it to twice its size and back leaves the corners where they
+  // were, up to the drift of its centre (area-weighted, over a fold whose height does not scale): about 7e-5 here,
+  // against 0.2 of relief. (Resizing to the size it has is no edit at all:
+  // AnEditToTheValuesAlreadyThereKeepsTheSamples.)
   TempDir dir;
   ViewerState st;
   open_lamp_obj(st, dir, "v 0 1 0\nv 1 1.2 0\nv 1 1 1\nv 0 1 1\nf 1 3 2\nf 1 4 3\n");
   ASSERT_EQ(st.lights.size(), 1u);
   const std::vector<vec3> before = st.scene.meshes[0].positions;
   const LightPlacement pl = light_placement(st.scene, st.lights[0]);
+  ASSERT_EQ(st.apply(LightShapeEdit{0, {}, 2.0f * pl.size, {}}), Tier::light_refit);
   ASSERT_EQ(st.apply(LightShapeEdit{0, {}, pl.size, {}}), Tier::light_refit);
   const std::vector<vec3>& after = st.scene.meshes[0].positions;
   ASSERT_EQ(after.size(), before.size());
   for (size_t i = 0; i < before.size(); ++i)
-    EXPECT_NEAR(glm::length(after[i] - before[i]), 0.0f, 1e-5f) << "corner " << i;
+    EXPECT_NEAR(glm::length(after[i] - before[i]), 0.0f, 2e-4f) << "corner " << i;
 }
 
 TEST(SceneLights, AMovedLightIsWhereTheSavedSceneLoadsIt) {
