@@ -16,10 +16,10 @@
 #include <string_view>
 #include <vector>
 
-#include "scene/load.h"
 #include "view/panels.h"
 #include "view/viewer_state.h"
 #include "temp_dir.h"
+#include "viewer_fixtures.h"
 
 namespace pt {
 namespace {
@@ -158,20 +158,8 @@ class PanelHarness {
   std::map<ImGuiID, ImVec2> found_;
 };
 
-Scene builtin(std::string_view name) {
-  Result<Scene> s = load_builtin_scene(name);
-  EXPECT_TRUE(s.ok()) << name;
-  return std::move(*s);
-}
-
-RenderParams small_params() {
-  RenderParams p;
-  p.width = 32;
-  p.height = 24;
-  p.max_depth = 4;
-  p.threads = 1;
-  return p;
-}
+using test::builtin;
+using test::small_params;
 
 /// A harness over `scene` (the Cornell box by default), its session rendering on one thread.
 void start(PanelHarness& h, Scene scene = builtin("cornell")) {
@@ -179,16 +167,9 @@ void start(PanelHarness& h, Scene scene = builtin("cornell")) {
   h.frames(2);
 }
 
-/// A 4 x 4 floor under a sphere light of radius 0.2 (no built-in scene has a sphere light).
+/// test::floor_under_a_sphere_light, seen from the front.
 Scene floor_under_a_sphere_light() {
-  Scene s;
-  Material floor, lamp;
-  floor.name = "floor";
-  lamp.name = "lamp";
-  lamp.emission = vec3(2.0f);
-  s.materials = {floor, lamp};
-  s.quads.push_back({vec3(-2, 0, 2), vec3(4, 0, 0), vec3(0, 0, -4), 0});
-  s.spheres.push_back({{vec3(0.5f, 1.5f, -0.25f), 0.2f}, 1});
+  Scene s = test::floor_under_a_sphere_light();
   s.camera = Camera{};
   s.camera->eye = vec3(0, 1, 4);
   s.camera->target = vec3(0, 0.5f, 0);

@@ -20,26 +20,16 @@
 #include "view/script.h"
 #include "view/viewer_state.h"
 #include "temp_dir.h"
+#include "viewer_fixtures.h"
 
 namespace pt {
 namespace {
 
 namespace fs = std::filesystem;
 
-RenderParams small_params() {
-  RenderParams p;
-  p.width = 32;
-  p.height = 24;
-  p.max_depth = 4;
-  p.threads = 1;
-  return p;
-}
-
-Scene builtin(std::string_view name) {
-  Result<Scene> s = load_builtin_scene(name);
-  EXPECT_TRUE(s.ok()) << name;
-  return std::move(*s);
-}
+using test::builtin;
+using test::floor_under_a_sphere_light;
+using test::small_params;
 
 /// A 1 x 1 x 1 room (floor and ceiling) whose ceiling light is two emissive triangles sharing two ceiling vertices,
 /// like the public Cornell box OBJ: the light is 0.4 (x) by 0.2 (z) about (0.5, 1, 0.5).
@@ -679,19 +669,6 @@ TEST(SceneLights, EveryLightOfEveryBuiltinSceneCanBeResizedAndScaled) {
     }
     EXPECT_EQ(st.geometry_builds, 1) << a.name;
   }
-}
-
-/// A 4 x 4 floor under a sphere light of radius 0.2 at (0.5, 1.5, -0.25).
-Scene floor_under_a_sphere_light() {
-  Scene s;
-  Material floor, lamp;
-  floor.name = "floor";
-  lamp.name = "lamp";
-  lamp.emission = vec3(2.0f);
-  s.materials = {floor, lamp};
-  s.quads.push_back({vec3(-2, 0, 2), vec3(4, 0, 0), vec3(0, 0, -4), 0});
-  s.spheres.push_back({{vec3(0.5f, 1.5f, -0.25f), 0.2f}, 1});
-  return s;
 }
 
 TEST(SceneLights, ASphereLightMovesAndScalesAboutItsCenter) {
