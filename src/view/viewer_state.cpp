@@ -173,10 +173,12 @@ Tier ViewerState::apply(const Edit& edit) {
     Tier operator()(const LightShapeEdit& e) const {
       if (e.light < 0 || size_t(e.light) >= st.lights.size()) return Tier::none;
       SceneLight& l = st.lights[size_t(e.light)];
-      bool changed = false;  // a size, factor or centre that is the light's already changes nothing
-      if (e.size && *e.size != light_placement(st.scene, l).size) changed |= resize_light(st.scene, l, *e.size);
+      // A size, factor or centre that is the light's already changes nothing (resizing and scaling keep the centre).
+      const LightPlacement was = light_placement(st.scene, l);
+      bool changed = false;
+      if (e.size && *e.size != was.size) changed |= resize_light(st.scene, l, *e.size);
       if (e.scale && *e.scale != 1.0f) changed |= scale_light(st.scene, l, *e.scale);
-      if (e.center && is_finite(*e.center) && *e.center != light_placement(st.scene, l).center) {
+      if (e.center && is_finite(*e.center) && *e.center != was.center) {
         move_light(st.scene, l, *e.center);
         changed = true;
       }

@@ -54,11 +54,14 @@ class PanelHarness {
     int w = 0, h = 0;
     io.Fonts->GetTexDataAsAlpha8(&pixels, &w, &h);  // builds the font atlas NewFrame needs
     io.MousePos = ImVec2(-1e4f, -1e4f);
+    ps.save_path = dir / "ptview.png";
+    ps.scene_path = dir / "scene.json";
   }
   ~PanelHarness() { ImGui::DestroyContext(ctx_); }
   PanelHarness(const PanelHarness&) = delete;
   PanelHarness& operator=(const PanelHarness&) = delete;
 
+  test::TempDir dir;  ///< the panels' file names point here, so no click writes into the working directory
   ViewerState st;
   PanelState ps;
 
@@ -288,10 +291,10 @@ TEST(Panels, PauseAdaptiveSamplingAndStopAtSppDoNotRestart) {
 }
 
 TEST(Panels, SaveImageWritesTheFileOrSaysWhichExtensionsWork) {
-  test::TempDir dir;
   PanelHarness h;
   start(h);
   const IdPath p = PanelHarness::panel();
+  const test::TempDir& dir = h.dir;
   const std::string bad = (dir.path / "image.bmp").string(), good = (dir.path / "image.pfm").string();
   h.type(p.then("file"), bad, false);
   EXPECT_EQ(h.ps.save_path, bad);
@@ -461,10 +464,10 @@ TEST(Panels, TheComparePanelStartsAndEndsACompare) {
 }
 
 TEST(Panels, TheScenePanelSavesAndOpensScenes) {
-  test::TempDir dir;
   PanelHarness h;
   start(h);
   const IdPath p = PanelHarness::panel();
+  const test::TempDir& dir = h.dir;
   h.click(p.then("Scene"));
   const std::string saved = (dir.path / "saved.json").string();
   h.type(p.then("scene file"), saved, false);
