@@ -166,10 +166,9 @@ void light_panel(ViewerState& st) {
     }
   }
   // Relative: each frame of a drag scales by that frame's step. No text entry (ImGuiSliderFlags_NoInput): a typed
-  // factor would be applied again on every frame the field stayed active.
+  // factor would be applied again on every frame the field stayed active. A factor of 1 is no edit (apply).
   float scale = 1.0f;
-  if (ImGui::DragFloat("scale", &scale, 0.005f, 0.5f, 2.0f, "x %.3f", ImGuiSliderFlags_NoInput) && scale > 0.0f &&
-      scale != 1.0f)
+  if (ImGui::DragFloat("scale", &scale, 0.005f, 0.5f, 2.0f, "x %.3f", ImGuiSliderFlags_NoInput))
     st.apply(LightShapeEdit{st.selected_light, {}, {}, scale});
   if (ImGui::IsItemHovered()) ImGui::SetTooltip("drag to scale the light about its centre");
   vec3 center = pl.center;
