@@ -27,6 +27,7 @@ namespace {
 namespace fs = std::filesystem;
 
 constexpr float kPanelWidth = 360.0f, kPanelHeight = 1500.0f;
+const ImVec2 kAway(-1e4f, -1e4f);  // a mouse position over no widget
 // Our own key indices in io.KeysDown (ImGui 1.86 maps its named keys through io.KeyMap).
 constexpr int kEnter = 1, kKeyA = 2, kBackspace = 3;
 
@@ -38,7 +39,7 @@ struct IdPath {
   IdPath then(int index) const { return {ImHashData(&index, sizeof index, id)}; }
 };
 
-/// One headless ImGui context drawing draw_panels over a viewer state rendering the built-in Cornell box.
+/// One headless ImGui context drawing draw_panels over a viewer state (start() gives it a scene and a session).
 class PanelHarness {
  public:
   PanelHarness() {
@@ -53,7 +54,7 @@ class PanelHarness {
     unsigned char* pixels = nullptr;
     int w = 0, h = 0;
     io.Fonts->GetTexDataAsAlpha8(&pixels, &w, &h);  // builds the font atlas NewFrame needs
-    io.MousePos = ImVec2(-1e4f, -1e4f);
+    io.MousePos = kAway;
     ps.save_path = dir / "ptview.png";
     ps.scene_path = dir / "scene.json";
   }
@@ -78,7 +79,9 @@ class PanelHarness {
     for (int i = 0; i < n; ++i) frame();
   }
 
-  static IdPath panel() { return {ImGui::FindWindowByName("ptview")->ID}; }
+  /// The panels' one window (draw_panels names it "ptview").
+  static ImGuiWindow* panel_window() { return ImGui::FindWindowByName("ptview"); }
+  static IdPath panel() { return {panel_window()->ID}; }
   /// The open combo's list (ImGui draws it as a popup window).
   static IdPath popup() { return {popup_window()->ID}; }
 
@@ -90,8 +93,7 @@ class PanelHarness {
       frame();
       if (ImGui::GetCurrentContext()->HoveredId == target.id) return known->second;
     }
-    ImGuiWindow* w = ImGui::GetCurrentContext()->OpenPopupStack.empty() ? ImGui::FindWindowByName("ptview")
-                                                                        : popup_window();
+    ImGuiWindow* w = ImGui::GetCurrentContext()->OpenPopupStack.empty() ? panel_window() : popup_window();
     const ImVec2 lo = w->Pos, hi = ImVec2(w->Pos.x + w->Size.x, w->Pos.y + w->Size.y);
     for (float y = lo.y + 1.0f; y < hi.y; y += 3.0f)
       for (float x = lo.x + 4.0f; x < hi.x; x += 9.0f) {
@@ -100,7 +102,7 @@ class PanelHarness {
         if (ImGui::GetCurrentContext()->HoveredId == target.id) return found_[target.id] = ImVec2(x, y);
       }
     ADD_FAILURE() << "no widget with id " << target.id << " under the mouse";
-    return ImVec2(-1e4f, -1e4f);
+    return kAway;
   }
 
   /// Press and release the left button over `target` (a button, checkbox, header, combo or list entry).
@@ -151,7 +153,7 @@ class PanelHarness {
   }
   /// Move the mouse away from every widget.
   void leave() {
-    ImGui::GetIO().MousePos = ImVec2(-1e4f, -1e4f);
+    ImGui::GetIO().MousePos = kAway;
     frames(2);
   }
 
@@ -185,7 +187,7 @@ TEST(Panels, LookingHoveringOpeningAndClosingNeverRestart) {
   const int restarts = h.st.restarts;
   const RenderParams before = h.st.params;
   // Sweep the mouse over every row of the column (find fails only at the end, for an id no widget has).
-  ImGuiWindow* w = ImGui::FindWindowByName("ptview");
+  ImGuiWindow* w = PanelHarness::panel_window();
   for (float y = w->Pos.y; y < w->Pos.y + w->Size.y; y += 5.0f)
     for (float x = 2.0f; x < kPanelWidth; x += 25.0f) {
       ImGui::GetIO().MousePos = ImVec2(x, y);
@@ -206,7 +208,7 @@ TEST(Panels, LookingHoveringOpeningAndClosingNeverRestart) {
 /// Whether the collapsing header `label` of the column, open by default, is open (ImGui keeps the state in the
 /// window's storage once it has changed).
 bool default_open_header_is_open(const char* label) {
-  return ImGui::FindWindowByName("ptview")->StateStorage.GetInt(PanelHarness::panel().then(label).id, 1) != 0;
+  return PanelHarness::panel_window()->StateStorage.GetInt(PanelHarness::panel().then(label).id, 1) != 0;
 }
 
 TEST(Panels, PickingAnObjectBringsTheMaterialPanelForward) {
