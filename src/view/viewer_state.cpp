@@ -155,7 +155,10 @@ Tier ViewerState::apply(const Edit& edit) {
         return Tier::none;
       if (st.compare && *st.compare == *e.b) return Tier::none;
       st.compare = e.b;
-      if (st.session && !st.session_b) st.session_b = std::make_unique<RenderSession>(st.session->thread_count());
+      if (st.session && !st.session_b) {
+        st.session_b = std::make_unique<RenderSession>(st.session->thread_count());
+        st.session_b->set_target_spp(st.session->target_spp());  // "stop at spp" holds for both sides
+      }
       if (st.session_b) st.session_b->set_publish_maps(needs_maps(st.display_mode));
       st.frame_b = SessionFrame{};
       st.display_dirty = true;

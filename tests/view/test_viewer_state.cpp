@@ -892,8 +892,10 @@ TEST(Script, WaitsCoverBothSidesOfACompareAndALoadInFlight) {
   TempDir dir;
   ViewerState st;
   st.init(builtin("cornell"), small_params(), {}, 1);
-  // stop-at-spp and wait-frames act on both sides of a compare.
-  EXPECT_EQ(run_script(st, "compare sampler=independent\nstop-at-spp 2\nwait-frames 2\n").failures, 0);
+  // stop-at-spp and wait-frames act on both sides of a compare: a compare started after the stop holds it from its
+  // first frame, and a stop set during a compare reaches both sides (checked on the target itself: side B may
+  // already have passed it while the restart set up side A).
+  EXPECT_EQ(run_script(st, "stop-at-spp 2\ncompare sampler=independent\nwait-frames 2\n").failures, 0);
   ASSERT_TRUE(st.session_b);
   EXPECT_EQ(st.frame_b.epoch, st.session_b->epoch());
   EXPECT_GE(st.frame_b.frames, 2);
@@ -901,6 +903,9 @@ TEST(Script, WaitsCoverBothSidesOfACompareAndALoadInFlight) {
   st.session_b->fetch(st.frame_b);
   EXPECT_EQ(st.frame_b.frames, 2);
   EXPECT_EQ(st.frame_b.spp, 2);
+  EXPECT_EQ(run_script(st, "stop-at-spp 5\n").failures, 0);
+  EXPECT_EQ(st.session->target_spp(), 5);
+  EXPECT_EQ(st.session_b->target_spp(), 5);
   // wait-frames after a load waits for the loaded scene's frames, not the old scene's.
   const std::string room = write_two_triangle_light_obj(dir.path);
   EXPECT_EQ(run_script(st, "compare off\nload " + room + "\nwait-frames 1\n").failures, 0);
