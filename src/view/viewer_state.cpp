@@ -61,11 +61,14 @@ void ViewerState::restart() {
   ++restarts;
   if (!session) return;
   if (compare && session_b) {
+    // Side A's time slice comes first: side B waits from its first frame (its preview still renders), so neither
+    // side renders beyond its slice while the restart sets up the other.
+    slice_b = false;
+    slice_start = Clock::now();
+    set_paused(paused);
     session_b->set_preview_divisor(preview_div);
     session_b->set_adaptive(compare->adaptive);
     session_b->restart(render_scene, params_b());
-    slice_b = false;
-    slice_start = Clock::now();
   }
   session->set_preview_divisor(preview_div);
   uint64_t e = session->restart(render_scene, params);
