@@ -19,7 +19,7 @@ namespace pt {
 enum class Tier : uint8_t {
   none,        ///< nothing changed (a rejected or empty edit)
   display,     ///< display transform or display mode only: no restart
-  sampling,    ///< adaptive sampling settings: no restart (stopped pixels resume when the threshold drops)
+  sampling,    ///< adaptive sampling or the stop: no restart (stopped pixels resume when the threshold drops)
   camera,      ///< restart over the same render scene (camera or render parameters)
   material,    ///< new materials and light list over the same geometry
   light_refit, ///< shapes moved or resized: BVH refit, then as material
@@ -47,6 +47,11 @@ struct DisplayModeEdit {
 /// Adaptive sampling on (noise_threshold > 0) or off, applied to the running epoch (RenderSession::set_adaptive).
 struct AdaptiveEdit {
   AdaptiveParams adaptive;
+};
+/// Where rendering stops: at `spp` samples per pixel on both sides of a compare (0: never), for this epoch and the
+/// next ones. A stop below the samples already taken stops at once and keeps them.
+struct StopEdit {
+  int spp = 0;
 };
 /// The second configuration of an equal-time A/B compare: what differs from A (the current parameters).
 struct CompareConfig {
@@ -93,8 +98,8 @@ struct SceneEdit {
 /// Restart accumulation as is (the Render panel's button).
 struct RestartEdit {};
 
-using Edit = std::variant<CameraEdit, RenderParamsEdit, DisplayEdit, DisplayModeEdit, AdaptiveEdit, CompareEdit,
-                          DividerEdit, MaterialEdit, LightShapeEdit, LightEmissionEdit, SceneEdit, RestartEdit>;
+using Edit = std::variant<CameraEdit, RenderParamsEdit, DisplayEdit, DisplayModeEdit, AdaptiveEdit, StopEdit,
+                          CompareEdit, DividerEdit, MaterialEdit, LightShapeEdit, LightEmissionEdit, SceneEdit, RestartEdit>;
 
 /// The tier an edit of this kind needs (before looking at the state: apply may still return none for an edit that
 /// changes nothing or is invalid).
@@ -105,6 +110,7 @@ inline Tier tier_of(const Edit& e) {
     Tier operator()(const DisplayEdit&) const { return Tier::display; }
     Tier operator()(const DisplayModeEdit&) const { return Tier::display; }
     Tier operator()(const AdaptiveEdit&) const { return Tier::sampling; }
+    Tier operator()(const StopEdit&) const { return Tier::sampling; }
     Tier operator()(const CompareEdit&) const { return Tier::camera; }
     Tier operator()(const DividerEdit&) const { return Tier::display; }
     Tier operator()(const MaterialEdit&) const { return Tier::material; }

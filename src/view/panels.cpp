@@ -78,11 +78,8 @@ void render_panel(ViewerState& st, PanelState& ps) {
   if (a.enabled())
     ImGui::TextDisabled("stopped %.1f%% of pixels%s", 100.0 * st.frame.converged_fraction,
                         st.frame.converged ? "  (converged)" : "");
-  if (ImGui::InputInt("stop at spp", &ps.target_spp)) {
-    ps.target_spp = std::max(0, ps.target_spp);
-    st.session->set_target_spp(ps.target_spp);
-    if (st.session_b) st.session_b->set_target_spp(ps.target_spp);
-  }
+  int target = st.target_spp;  // the state's: a script's stop-at-spp shows here too
+  if (ImGui::InputInt("stop at spp", &target)) st.apply(StopEdit{std::max(0, target)});
   if (ImGui::IsItemHovered()) ImGui::SetTooltip("0: never stop");
   input_text("file", ps.save_path);
   if (ImGui::Button("save image")) {

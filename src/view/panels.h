@@ -12,7 +12,6 @@ struct PanelState {
   std::string save_path = "ptview.png";
   std::string open_path;
   bool open_material = false;  ///< set when the user picks an object, to bring the Material panel forward
-  int target_spp = 0;
   bool lock_size = false;      ///< the render size does not follow the window (--size locks it)
   std::string scene_path = "scene.json";
   double noise_threshold = 0.01;  ///< the slider's value while adaptive sampling is off

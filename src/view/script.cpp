@@ -341,8 +341,7 @@ const ScriptCommandSpec kCommands[] = {
      }},
     {"stop-at-spp", "N", 1, 1, true, check_count,
      [](ScriptRun&, ViewerState& st, const ScriptCommand& c) {
-       st.session->set_target_spp(int(num(c, 0)));  // as the Render panel's "stop at spp"; 0: never stop
-       if (st.session_b) st.session_b->set_target_spp(int(num(c, 0)));
+       st.apply(StopEdit{int(num(c, 0))});  // as the Render panel's "stop at spp"; 0: never stop
        return ScriptStep::done;
      }},
     {"save", "PATH", 1, 1, false, check_none,

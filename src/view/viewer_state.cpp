@@ -145,6 +145,13 @@ Tier ViewerState::apply(const Edit& edit) {
       if (st.session) st.session->set_adaptive(a);
       return Tier::sampling;
     }
+    Tier operator()(const StopEdit& e) const {
+      if (e.spp < 0 || e.spp == st.target_spp) return Tier::none;
+      st.target_spp = e.spp;
+      if (st.session) st.session->set_target_spp(e.spp);
+      if (st.session_b) st.session_b->set_target_spp(e.spp);
+      return Tier::sampling;
+    }
     Tier operator()(const CompareEdit& e) const {
       if (!e.b) {
         if (!st.compare) return Tier::none;
@@ -160,7 +167,7 @@ Tier ViewerState::apply(const Edit& edit) {
       st.compare = e.b;
       if (st.session && !st.session_b) {
         st.session_b = std::make_unique<RenderSession>(st.session->thread_count());
-        st.session_b->set_target_spp(st.session->target_spp());  // "stop at spp" holds for both sides
+        st.session_b->set_target_spp(st.target_spp);  // "stop at spp" holds for both sides
       }
       if (st.session_b) st.session_b->set_publish_maps(needs_maps(st.display_mode));
       st.frame_b = SessionFrame{};

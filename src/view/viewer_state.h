@@ -43,6 +43,7 @@ struct ViewerState {
   DisplayMode display_mode = DisplayMode::image;
   bool display_dirty = true;   ///< the shown image must be rebuilt from `frame` (a display-mode change)
   AdaptiveParams adaptive;     ///< adaptive sampling as last applied to the session
+  int target_spp = 0;          ///< "stop at spp" as last applied to both sides (0: never stop)
   std::optional<Image> reference;  ///< --reference, for the true relMSE and the reference-error mode
   /// (seconds, est relMSE) of the current epoch's full frames, for the Stats panel's error-vs-time plot.
   std::vector<std::pair<double, double>> error_history;

@@ -284,11 +284,15 @@ TEST(Panels, PauseAdaptiveSamplingAndStopAtSppDoNotRestart) {
   h.click(p.then("adaptive"));
   EXPECT_NEAR(h.st.adaptive.noise_threshold, 0.05, 1e-6);
   h.type(p.then("stop at spp").then(""), "7", false);
-  EXPECT_EQ(h.ps.target_spp, 7);
+  EXPECT_EQ(h.st.target_spp, 7);
   EXPECT_EQ(h.st.session->target_spp(), 7);
   h.type(p.then("stop at spp").then(""), "-4", false);
-  EXPECT_EQ(h.ps.target_spp, 0);
+  EXPECT_EQ(h.st.target_spp, 0);
   EXPECT_EQ(h.st.session->target_spp(), 0);
+  h.st.apply(StopEdit{12});  // as a script's stop-at-spp: the field shows it, and its + counts on from it
+  h.click(p.then("stop at spp").then("+"));
+  EXPECT_EQ(h.st.target_spp, 13);
+  EXPECT_EQ(h.st.session->target_spp(), 13);
   EXPECT_EQ(h.st.restarts, restarts);
 }
 

@@ -168,8 +168,30 @@ TEST(Tiers, TierOfAgreesWithApplyForEveryKind) {
   EXPECT_EQ(tier_of(SceneEdit{}), Tier::rebuild);
   EXPECT_EQ(tier_of(DisplayModeEdit{}), Tier::display);
   EXPECT_EQ(tier_of(AdaptiveEdit{}), Tier::sampling);
+  EXPECT_EQ(tier_of(StopEdit{}), Tier::sampling);
   EXPECT_EQ(tier_of(CompareEdit{}), Tier::camera);
   EXPECT_EQ(tier_of(DividerEdit{}), Tier::display);
+}
+
+// "Stop at spp" is state, not a session setting: it holds for the sessions there are and for side B started later,
+// the panel shows what the script set, and it restarts nothing.
+TEST(Tiers, TheStopHoldsForBothSidesAndRestartsNothing) {
+  ViewerState st;
+  st.init(builtin("cornell"), small_params(), {}, 1);
+  const int restarts = st.restarts;
+  EXPECT_EQ(st.apply(StopEdit{6}), Tier::sampling);
+  EXPECT_EQ(st.target_spp, 6);
+  EXPECT_EQ(st.session->target_spp(), 6);
+  EXPECT_EQ(st.apply(StopEdit{6}), Tier::none) << "unchanged";
+  EXPECT_EQ(st.apply(StopEdit{-1}), Tier::none) << "negative";
+  EXPECT_EQ(st.target_spp, 6);
+  st.apply(CompareEdit{CompareConfig{}});
+  ASSERT_TRUE(st.session_b);
+  EXPECT_EQ(st.session_b->target_spp(), 6) << "side B started after the stop";
+  EXPECT_EQ(st.apply(StopEdit{0}), Tier::sampling);
+  EXPECT_EQ(st.session->target_spp(), 0);
+  EXPECT_EQ(st.session_b->target_spp(), 0);
+  EXPECT_EQ(st.restarts, restarts + 1) << "the compare restarted; the stops did not";
 }
 
 // The light panel, the script's `light N` and picking keep an index into the scene's lights: a scene with fewer
