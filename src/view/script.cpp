@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <limits>
 #include <sstream>
 #include <variant>
 
@@ -23,6 +24,13 @@ bool is_number(const std::string& s) {
 }
 
 float num(const ScriptCommand& c, size_t i) { return std::stof(c.args[i]); }
+/// A count or a pixel, read in double (a float rounds whole numbers past 2^24: wait-spp 16777217 waited for one
+/// sample less) and clamped to int's range (a pixel far off the image is off it, not undefined behaviour).
+int whole(const ScriptCommand& c, size_t i) {
+  const double v = std::strtod(c.args[i].c_str(), nullptr);
+  constexpr double lo = std::numeric_limits<int>::min(), hi = std::numeric_limits<int>::max();
+  return std::isnan(v) ? 0 : int(std::clamp(v, lo, hi));
+}
 
 void fail(ScriptRun& r, const ScriptCommand& c, const std::string& why) {
   std::fprintf(stderr, "ptview: %s:%d: %s\n", r.file.c_str(), c.line, why.c_str());
@@ -135,7 +143,7 @@ std::string check_window_size(const std::vector<std::string>& a) {
 /// image area (unless the size is locked), so that the next wait-frames waits for frames of the new size. The
 /// window system may refuse a size: after 10 s the command fails instead of waiting for ever.
 ScriptStep run_window(ScriptRun& r, ViewerState& st, const ScriptCommand& c) {
-  const int w = int(num(c, 0)), h = int(num(c, 1));
+  const int w = whole(c, 0), h = whole(c, 1);
   const auto now = std::chrono::steady_clock::now();
   if (!r.deadline) {
     r.deadline = now + std::chrono::seconds(10);
@@ -198,7 +206,7 @@ const ScriptCommandSpec kCommands[] = {
      }},
     {"pick", "X Y", 2, 2, true, check_none,
      [](ScriptRun& r, ViewerState& st, const ScriptCommand& c) {
-       if (!st.select_at(int(num(c, 0)), int(num(c, 1)))) fail(r, c, "pick: no object under that pixel");
+       if (!st.select_at(whole(c, 0), whole(c, 1))) fail(r, c, "pick: no object under that pixel");
        return ScriptStep::done;
      }},
     {"set-material", "TYPE [albedo=r,g,b] [ior=x] [emission=r,g,b]", 1, 4, false, check_material,
@@ -223,7 +231,7 @@ const ScriptCommandSpec kCommands[] = {
      }},
     {"light", "N", 1, 1, true, check_count,
      [](ScriptRun& r, ViewerState& st, const ScriptCommand& c) {
-       int n = int(num(c, 0));
+       int n = whole(c, 0);
        if (n >= int(st.lights.size()))
          fail(r, c, "light: the scene has " + std::to_string(st.lights.size()) + " light(s)");
        else st.selected_light = n;
@@ -292,7 +300,7 @@ const ScriptCommandSpec kCommands[] = {
      [](ScriptRun&, ViewerState& st, const ScriptCommand& c) {
        AdaptiveParams a;
        a.noise_threshold = std::strtod(c.args[0].c_str(), nullptr);
-       a.min_spp = c.args.size() > 1 ? int(num(c, 1)) : 0;
+       a.min_spp = c.args.size() > 1 ? whole(c, 1) : 0;
        st.apply(AdaptiveEdit{a});  // no restart: stopped pixels resume when the threshold drops
        return ScriptStep::done;
      }},
@@ -315,21 +323,21 @@ const ScriptCommandSpec kCommands[] = {
     {"wait-frames", "N", 1, 1, true, check_count,
      [](ScriptRun&, ViewerState& st, const ScriptCommand& c) {
        bool ready = !st.loading.valid() && st.session && st.frame.epoch == st.session->epoch() &&
-                    st.frame.frames >= int(num(c, 0));
+                    st.frame.frames >= whole(c, 0);
        if (st.compare && st.session_b)  // in a compare, both sides
-         ready = ready && st.frame_b.epoch == st.session_b->epoch() && st.frame_b.frames >= int(num(c, 0));
+         ready = ready && st.frame_b.epoch == st.session_b->epoch() && st.frame_b.frames >= whole(c, 0);
        return ready ? ScriptStep::done : ScriptStep::wait;
      }},
     {"wait-spp", "N", 1, 1, true, check_count,
      [](ScriptRun&, ViewerState& st, const ScriptCommand& c) {  // all ranks' samples under mpirun (view/offload.h)
        bool ready = !st.loading.valid() && st.session && st.frame.epoch == st.session->epoch() && !st.frame.preview &&
-                    st.frame.spp >= int(num(c, 0));
+                    st.frame.spp >= whole(c, 0);
        return ready ? ScriptStep::done : ScriptStep::wait;
      }},
     {"wait-ms", "N", 1, 1, true, check_count,
      [](ScriptRun& r, ViewerState&, const ScriptCommand& c) {
        auto now = std::chrono::steady_clock::now();
-       if (!r.deadline) r.deadline = now + std::chrono::milliseconds(int64_t(num(c, 0)));
+       if (!r.deadline) r.deadline = now + std::chrono::milliseconds(int64_t(whole(c, 0)));
        if (now < *r.deadline) return ScriptStep::wait;
        r.deadline.reset();
        return ScriptStep::done;
@@ -341,7 +349,7 @@ const ScriptCommandSpec kCommands[] = {
      }},
     {"stop-at-spp", "N", 1, 1, true, check_count,
      [](ScriptRun&, ViewerState& st, const ScriptCommand& c) {
-       st.apply(StopEdit{int(num(c, 0))});  // as the Render panel's "stop at spp"; 0: never stop
+       st.apply(StopEdit{whole(c, 0)});  // as the Render panel's "stop at spp"; 0: never stop
        return ScriptStep::done;
      }},
     {"save", "PATH", 1, 1, false, check_none,

@@ -847,6 +847,16 @@ TEST(Script, CommandsDoWhatTheReadmeSays) {
   EXPECT_EQ(run_script(st, "pick 32 0\n").failures, 1);
 }
 
+// Counts are read whole: as floats, 16777217 samples (2^24 + 1) were 16777216.
+TEST(Script, CountsPast2To24AreReadExactly) {
+  ViewerState st;
+  st.init(builtin("cornell"), small_params(), {}, 1);
+  EXPECT_EQ(run_script(st, "stop-at-spp 16777217\n").failures, 0);
+  EXPECT_EQ(st.target_spp, 16777217);
+  EXPECT_EQ(run_script(st, "stop-at-spp 999999999\n").failures, 0);
+  EXPECT_EQ(st.target_spp, 999999999);
+}
+
 TEST(Script, ImpossibleCommandsAreCountedFailures) {
   {
     ViewerState st;  // nothing picked yet: set-material changes nothing
@@ -855,6 +865,9 @@ TEST(Script, ImpossibleCommandsAreCountedFailures) {
     EXPECT_EQ(run_script(st, "set-material specular\n").failures, 1);
     EXPECT_EQ(st.scene.materials.size(), before.size());
     for (size_t m = 0; m < before.size(); ++m) EXPECT_EQ(st.scene.materials[m].type, before[m].type) << m;
+    // A pixel far off the image is off it (the float of 1e12 did not fit an int).
+    EXPECT_EQ(run_script(st, "pick 1e12 5\npick -3e9 5\n").failures, 2);
+    EXPECT_EQ(st.selected_material, -1);
   }
   Scene s = floor_under_a_sphere_light();
   ViewerState st;
