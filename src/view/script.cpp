@@ -322,10 +322,10 @@ const ScriptCommandSpec kCommands[] = {
      }},
     {"wait-frames", "N", 1, 1, true, check_count,
      [](ScriptRun&, ViewerState& st, const ScriptCommand& c) {
-       bool ready = !st.loading.valid() && st.session && st.frame.epoch == st.session->epoch() &&
-                    st.frame.frames >= whole(c, 0);
+       const int n = whole(c, 0);
+       bool ready = !st.loading.valid() && st.session && st.frame.epoch == st.session->epoch() && st.frame.frames >= n;
        if (st.compare && st.session_b)  // in a compare, both sides
-         ready = ready && st.frame_b.epoch == st.session_b->epoch() && st.frame_b.frames >= whole(c, 0);
+         ready = ready && st.frame_b.epoch == st.session_b->epoch() && st.frame_b.frames >= n;
        return ready ? ScriptStep::done : ScriptStep::wait;
      }},
     {"wait-spp", "N", 1, 1, true, check_count,
@@ -337,7 +337,7 @@ const ScriptCommandSpec kCommands[] = {
     {"wait-ms", "N", 1, 1, true, check_count,
      [](ScriptRun& r, ViewerState&, const ScriptCommand& c) {
        auto now = std::chrono::steady_clock::now();
-       if (!r.deadline) r.deadline = now + std::chrono::milliseconds(int64_t(whole(c, 0)));
+       if (!r.deadline) r.deadline = now + std::chrono::milliseconds(whole(c, 0));
        if (now < *r.deadline) return ScriptStep::wait;
        r.deadline.reset();
        return ScriptStep::done;

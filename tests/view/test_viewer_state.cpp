@@ -174,7 +174,7 @@ TEST(Tiers, TierOfAgreesWithApplyForEveryKind) {
 }
 
 // "Stop at spp" is state, not a session setting: it holds for the sessions there are and for side B started later,
-// the panel shows what the script set, and it restarts nothing.
+// and it restarts nothing (test_panels checks that the Render panel shows the stop a script set).
 TEST(Tiers, TheStopHoldsForBothSidesAndRestartsNothing) {
   ViewerState st;
   st.init(builtin("cornell"), small_params(), {}, 1);
