@@ -65,15 +65,17 @@ class PanelHarness {
   test::TempDir dir;  ///< the panels' file names point here, so no click writes into the working directory
   ViewerState st;
   PanelState ps;
+  bool fetch = true;
 
-  /// One UI frame: the latest rendered frame fetched, as the viewer does, and the panels drawn.
-  void frame() {
-    if (st.session->fetch(st.frame)) st.note_frame();
-    ImGui::NewFrame();
-    draw_panels(st, ps, kPanelWidth, kPanelHeight);
-    ImGui::Render();
-    ImGuiIO& io = ImGui::GetIO();
-    for (bool& k : io.KeysDown) k = false;
+  /// One UI frame: the latest rendered frame fetched, as the viewer does (unless `fetch` is off: a test that sets
+  /// the frame's figures itself), and the panels drawn.
+  void frame() { draw(nullptr); }
+  /// One UI frame, returning the text the panels show (ImGui's log of the rendered text, a line per row; the
+  /// headers stay as they are).
+  std::string text() {
+    std::string shown;
+    draw(&shown);
+    return shown;
   }
   void frames(int n) {
     for (int i = 0; i < n; ++i) frame();
@@ -159,6 +161,20 @@ class PanelHarness {
 
  private:
   static ImGuiWindow* popup_window() { return ImGui::GetCurrentContext()->OpenPopupStack.back().Window; }
+  void draw(std::string* log) {
+    if (fetch && st.session->fetch(st.frame)) st.note_frame();
+    ImGui::NewFrame();
+    ImGuiIO& io = ImGui::GetIO();
+    // ImGui ends a log at the End() of the window it runs through and hands the text to the clipboard.
+    io.ClipboardUserData = log;
+    io.SetClipboardTextFn = [](void* out, const char* text) {
+      if (out) *static_cast<std::string*>(out) = text;
+    };
+    if (log) ImGui::LogToClipboard(0);  // 0: opens no collapsed header
+    draw_panels(st, ps, kPanelWidth, kPanelHeight);
+    ImGui::Render();
+    for (bool& k : io.KeysDown) k = false;
+  }
   ImGuiContext* ctx_ = nullptr;
   std::map<ImGuiID, ImVec2> found_;
 };
@@ -488,6 +504,112 @@ TEST(Panels, TheScenePanelSavesAndOpensScenes) {
   h.st.loading.wait();
   EXPECT_TRUE(h.st.poll_load());
   EXPECT_EQ(h.st.scene.source, other);
+}
+
+/// Whether `text` holds `line` as one of its lines, or as the start of one.
+bool shows(const std::string& text, const std::string& line) {
+  return ("\n" + text).find("\n" + line) != std::string::npos;
+}
+
+/// The Stats panel's figures, from a frame whose values the test sets (the session paused, the harness no longer
+/// fetching): each figure worked out by hand, not by the panel's formula.
+TEST(Panels, TheStatsPanelShowsTheFramesFigures) {
+  PanelHarness h;
+  start(h);
+  h.click(PanelHarness::panel().then("pause"));
+  h.fetch = false;
+  SessionFrame& f = h.st.frame;
+  f.preview = false;
+  f.width = 32;
+  f.height = 24;
+  f.spp = 40;
+  f.seconds = 2.0;
+  f.threads = 3;
+  f.counters = {};
+  f.counters.camera_rays = 3'000'000;
+  f.counters.bounce_rays = 2'000'000;
+  f.counters.shadow_rays = 1'000'000;
+  f.counters.nonfinite_samples = 7;
+  f.est_rel_mse = 0.02;
+  f.converged = false;
+  f.auto_first_spread = kAutoMinSpread;
+  f.auto_pilot_gain = 0.25f;
+  std::string t = h.text();
+  EXPECT_TRUE(shows(t, "32 x 24")) << t;
+  EXPECT_FALSE(shows(t, "32 x 24  (preview)")) << t;
+  EXPECT_TRUE(shows(t, "spp 40   20.0 spp/s   3.00 Mrays/s")) << t;  // 40 / 2 s; 6e6 rays / 2 s
+  EXPECT_TRUE(shows(t, "elapsed 2.0 s   threads 3")) << t;
+  EXPECT_TRUE(shows(t, "est relMSE 0.02")) << t;
+  EXPECT_TRUE(shows(t, "non-finite samples 7")) << t;
+  EXPECT_TRUE(shows(t, "auto light sampling: first vertex by solid angle (pilot gain 0.25)")) << t;
+  EXPECT_FALSE(shows(t, "ETA")) << t;  // adaptive sampling is off
+  EXPECT_FALSE(shows(t, "true relMSE")) << t;  // no reference
+  // The estimate against time, on log scales, over the times of the epoch's first and last frames.
+  h.st.error_history = {{0.5, 0.1}, {2.0, 0.02}};
+  h.st.reference = Image(32, 24);
+  h.st.frame_rel_mse = 0.03;
+  t = h.text();
+  EXPECT_TRUE(shows(t, "log10 relMSE vs log10 t (0.5..2 s)")) << t;
+  EXPECT_TRUE(shows(t, "est relMSE 0.02   true relMSE 0.03")) << t;
+  h.st.reference.reset();
+  h.st.frame_rel_mse = std::nan("");
+  f.auto_first_spread = kAutoMinSpreadDeep;
+  f.preview = true;  // a preview's estimate is not shown
+  t = h.text();
+  EXPECT_TRUE(shows(t, "auto light sampling: first vertex by area (pilot gain 0.25)")) << t;
+  EXPECT_TRUE(shows(t, "32 x 24  (preview)")) << t;
+  EXPECT_TRUE(shows(t, "est relMSE: needs 2+ spp")) << t;
+  f.preview = false;
+
+  // Adaptive sampling at T = 0.1: relMSE falls as 1/t from 0.02 at 2 s to T^2 = 0.01 at 4 s, 2 s from now.
+  h.st.apply(AdaptiveEdit{{0.1, 0}});
+  t = h.text();
+  EXPECT_TRUE(shows(t, "ETA to threshold 0.1: 2.0 s")) << t;
+  f.est_rel_mse = 0.005;  // already below T^2, some pixels still sampling
+  t = h.text();
+  EXPECT_TRUE(shows(t, "ETA to threshold: finishing the last pixels")) << t;
+  f.converged = true;
+  t = h.text();
+  EXPECT_TRUE(shows(t, "converged to threshold 0.1")) << t;
+
+  // Restart latency: the median and the 95th percentile of the recorded restarts.
+  h.st.restart_latency_ms.clear();
+  for (int i = 1; i <= 21; ++i) h.st.restart_latency_ms.push_back(double(i));
+  t = h.text();
+  EXPECT_TRUE(shows(t, "restart latency p50 11.0 ms  p95 20.0 ms")) << t;
+}
+
+TEST(Panels, TheStatsPanelComparesBothSidesInEqualTime) {
+  PanelHarness h;
+  start(h);
+  h.st.apply(CompareEdit{CompareConfig{h.st.params.integrator, h.st.params.light_sampling, SamplerKind::independent,
+                                       {}}});
+  ASSERT_TRUE(h.st.compare.has_value());
+  h.st.set_paused(true);
+  h.fetch = false;
+  SessionFrame& a = h.st.frame;
+  SessionFrame& b = h.st.frame_b;
+  a.preview = b.preview = false;
+  a.spp = 12;
+  a.seconds = 2.0;
+  a.est_rel_mse = 0.02;
+  b.spp = 30;
+  b.seconds = 1.0;
+  b.est_rel_mse = 0.01;
+  h.st.reference = Image(32, 24);
+  h.st.frame_rel_mse = 0.03;
+  h.st.frame_b_rel_mse = 0.015;
+  std::string t = h.text();
+  EXPECT_TRUE(shows(t, "| true relMSE | 0.03 | 0.015 |")) << t;
+  // Efficiency 1 / (relMSE x t): A 1 / 0.04, B 1 / 0.01, so B/A = 4.
+  EXPECT_TRUE(shows(t, "efficiency B/A 4.00")) << t;
+  EXPECT_TRUE(shows(t, "| spp | 12 | 30 |")) << t;
+  EXPECT_TRUE(shows(t, "| seconds | 2.00 | 1.00 |")) << t;
+  EXPECT_TRUE(shows(t, "| est relMSE | 0.02 | 0.01 |")) << t;
+  b.preview = true;  // no estimate on one side: no ratio
+  t = h.text();
+  EXPECT_TRUE(shows(t, "| est relMSE | 0.02 | - |")) << t;
+  EXPECT_FALSE(shows(t, "efficiency")) << t;
 }
 
 }  // namespace
