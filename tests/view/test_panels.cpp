@@ -579,6 +579,50 @@ TEST(Panels, TheStatsPanelShowsTheFramesFigures) {
   EXPECT_TRUE(shows(t, "restart latency p50 11.0 ms  p95 20.0 ms")) << t;
 }
 
+/// What the Render, Light, Camera and Scene panels show of the state: the figures read from their text.
+TEST(Panels, ThePanelsShowTheSceneAndTheChosenLight) {
+  PanelHarness h;
+  RenderParams params = small_params();
+  params.threads = 0;  // all cores: the field shows how many that is
+  h.st.init(builtin("cornell"), params, {}, 1);
+  h.frames(2);
+  const IdPath p = PanelHarness::panel();
+  h.click(p.then("Scene"));
+  h.click(p.then("Camera"));
+  std::string t = h.text();
+  EXPECT_TRUE(shows(t, "{ " + std::to_string(h.st.session->thread_count()) + " } threads")) << t;
+  // The Cornell box's ceiling light, 0.47 x 0.38 at y = 1.98, emitting (17, 12, 4): intensity 17, colour
+  // (1, 12/17, 4/17) = (255, 180, 60) in bytes.
+  EXPECT_TRUE(shows(t, "{ 0: light (rectangle 0.47 x 0.38) } light")) << t;
+  EXPECT_TRUE(shows(t, "{ 0.47 } { 0.38 } size W x H")) << t;
+  EXPECT_TRUE(shows(t, "{ 0 } { 1.98 } { 0 } position")) << t;
+  EXPECT_TRUE(shows(t, "{ R:255 } { G:180 } { B: 60 } color")) << t;
+  EXPECT_TRUE(shows(t, "{ 17.000 } intensity")) << t;
+  EXPECT_TRUE(shows(t, "material light")) << t;
+  EXPECT_TRUE(shows(t, "{ 3.9 } orbit distance")) << t;  // eye (0, 1, 3.9), target (0, 1, 0)
+  EXPECT_TRUE(shows(t, "triangles 32  spheres 0  lights 1")) << t;
+  EXPECT_FALSE(shows(t, "stopped")) << t;  // adaptive sampling is off
+  h.st.scene.warnings = {"a.obj: 2 zero-area triangles dropped"};
+  h.st.apply(LightEmissionEdit{0, vec3(1.0f, 0.5f, 0.25f), 8.0f});
+  h.st.apply(LightShapeEdit{0, {}, {}, 2.0f});
+  h.st.set_paused(true);
+  h.fetch = false;
+  h.st.apply(AdaptiveEdit{{0.05, 0}});
+  h.st.frame.converged_fraction = 0.25;
+  h.st.frame.converged = false;
+  t = h.text();
+  EXPECT_TRUE(shows(t, "{ R:255 } { G:128 } { B: 64 } color")) << t;
+  EXPECT_TRUE(shows(t, "{ 8.000 } intensity")) << t;
+  EXPECT_TRUE(shows(t, "{ 0.94 } { 0.76 } size W x H")) << t;
+  EXPECT_TRUE(shows(t, "a.obj: 2 zero-area triangles dropped")) << t;
+  EXPECT_TRUE(shows(t, "[x] adaptive { 0.0500 } threshold")) << t;
+  EXPECT_TRUE(shows(t, "stopped 25.0% of pixels")) << t;
+  h.st.frame.converged_fraction = 1.0;
+  h.st.frame.converged = true;
+  t = h.text();
+  EXPECT_TRUE(shows(t, "stopped 100.0% of pixels  (converged)")) << t;
+}
+
 TEST(Panels, TheStatsPanelComparesBothSidesInEqualTime) {
   PanelHarness h;
   start(h);
