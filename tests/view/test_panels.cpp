@@ -55,6 +55,11 @@ class PanelHarness {
     int w = 0, h = 0;
     io.Fonts->GetTexDataAsAlpha8(&pixels, &w, &h);  // builds the font atlas NewFrame needs
     io.MousePos = kAway;
+    // The clipboard is the harness's string: ImGui ends a log (text()) at the End() of the window it ran through
+    // by handing the text to the clipboard.
+    io.ClipboardUserData = this;
+    io.SetClipboardTextFn = [](void* self, const char* text) { static_cast<PanelHarness*>(self)->clipboard_ = text; };
+    io.GetClipboardTextFn = [](void* self) { return static_cast<PanelHarness*>(self)->clipboard_.c_str(); };
     ps.save_path = dir / "ptview.png";
     ps.scene_path = dir / "scene.json";
   }
@@ -69,13 +74,13 @@ class PanelHarness {
 
   /// One UI frame: the latest rendered frame fetched, as the viewer does (unless `fetch` is off: a test that sets
   /// the frame's figures itself), and the panels drawn.
-  void frame() { draw(nullptr); }
+  void frame() { draw(false); }
   /// One UI frame, returning the text the panels show (ImGui's log of the rendered text, a line per row; the
   /// headers stay as they are).
   std::string text() {
-    std::string shown;
-    draw(&shown);
-    return shown;
+    clipboard_.clear();
+    draw(true);
+    return clipboard_;
   }
   void frames(int n) {
     for (int i = 0; i < n; ++i) frame();
@@ -161,21 +166,16 @@ class PanelHarness {
 
  private:
   static ImGuiWindow* popup_window() { return ImGui::GetCurrentContext()->OpenPopupStack.back().Window; }
-  void draw(std::string* log) {
+  void draw(bool log) {
     if (fetch && st.session->fetch(st.frame)) st.note_frame();
     ImGui::NewFrame();
-    ImGuiIO& io = ImGui::GetIO();
-    // ImGui ends a log at the End() of the window it runs through and hands the text to the clipboard.
-    io.ClipboardUserData = log;
-    io.SetClipboardTextFn = [](void* out, const char* text) {
-      if (out) *static_cast<std::string*>(out) = text;
-    };
     if (log) ImGui::LogToClipboard(0);  // 0: opens no collapsed header
     draw_panels(st, ps, kPanelWidth, kPanelHeight);
     ImGui::Render();
-    for (bool& k : io.KeysDown) k = false;
+    for (bool& k : ImGui::GetIO().KeysDown) k = false;
   }
   ImGuiContext* ctx_ = nullptr;
+  std::string clipboard_;
   std::map<ImGuiID, ImVec2> found_;
 };
 
@@ -511,6 +511,15 @@ bool shows(const std::string& text, const std::string& line) {
   return ("\n" + text).find("\n" + line) != std::string::npos;
 }
 
+/// Whether `text` shows each of `lines`; on failure, the lines it lacks and the text, once.
+::testing::AssertionResult shows_all(const std::string& text, std::initializer_list<std::string> lines) {
+  std::string missing;
+  for (const std::string& line : lines)
+    if (!shows(text, line)) missing += "  " + line + "\n";
+  if (missing.empty()) return ::testing::AssertionSuccess();
+  return ::testing::AssertionFailure() << "not shown:\n" << missing << "in:\n" << text;
+}
+
 /// The Stats panel's figures, from a frame whose values the test sets (the session paused, the harness no longer
 /// fetching): each figure worked out by hand, not by the panel's formula.
 TEST(Panels, TheStatsPanelShowsTheFramesFigures) {
@@ -537,28 +546,24 @@ TEST(Panels, TheStatsPanelShowsTheFramesFigures) {
   std::string t = h.text();
   EXPECT_TRUE(shows(t, "32 x 24")) << t;
   EXPECT_FALSE(shows(t, "32 x 24  (preview)")) << t;
-  EXPECT_TRUE(shows(t, "spp 40   20.0 spp/s   3.00 Mrays/s")) << t;  // 40 / 2 s; 6e6 rays / 2 s
-  EXPECT_TRUE(shows(t, "elapsed 2.0 s   threads 3")) << t;
-  EXPECT_TRUE(shows(t, "est relMSE 0.02")) << t;
-  EXPECT_TRUE(shows(t, "non-finite samples 7")) << t;
-  EXPECT_TRUE(shows(t, "auto light sampling: first vertex by solid angle (pilot gain 0.25)")) << t;
-  EXPECT_FALSE(shows(t, "ETA")) << t;  // adaptive sampling is off
+  EXPECT_TRUE(shows_all(t, {"spp 40   20.0 spp/s   3.00 Mrays/s",  // 40 / 2 s; 6e6 rays / 2 s
+                            "elapsed 2.0 s   threads 3", "est relMSE 0.02", "non-finite samples 7",
+                            "auto light sampling: first vertex by solid angle (pilot gain 0.25)"}));
+  EXPECT_FALSE(shows(t, "ETA")) << t;          // adaptive sampling is off
   EXPECT_FALSE(shows(t, "true relMSE")) << t;  // no reference
   // The estimate against time, on log scales, over the times of the epoch's first and last frames.
   h.st.error_history = {{0.5, 0.1}, {2.0, 0.02}};
   h.st.reference = Image(32, 24);
   h.st.frame_rel_mse = 0.03;
   t = h.text();
-  EXPECT_TRUE(shows(t, "log10 relMSE vs log10 t (0.5..2 s)")) << t;
-  EXPECT_TRUE(shows(t, "est relMSE 0.02   true relMSE 0.03")) << t;
+  EXPECT_TRUE(shows_all(t, {"log10 relMSE vs log10 t (0.5..2 s)", "est relMSE 0.02   true relMSE 0.03"}));
   h.st.reference.reset();
   h.st.frame_rel_mse = std::nan("");
   f.auto_first_spread = kAutoMinSpreadDeep;
   f.preview = true;  // a preview's estimate is not shown
   t = h.text();
-  EXPECT_TRUE(shows(t, "auto light sampling: first vertex by area (pilot gain 0.25)")) << t;
-  EXPECT_TRUE(shows(t, "32 x 24  (preview)")) << t;
-  EXPECT_TRUE(shows(t, "est relMSE: needs 2+ spp")) << t;
+  EXPECT_TRUE(shows_all(t, {"auto light sampling: first vertex by area (pilot gain 0.25)", "32 x 24  (preview)",
+                            "est relMSE: needs 2+ spp"}));
   f.preview = false;
 
   // Adaptive sampling at T = 0.1: relMSE falls as 1/t from 0.02 at 2 s to T^2 = 0.01 at 4 s, 2 s from now.
@@ -593,14 +598,11 @@ TEST(Panels, ThePanelsShowTheSceneAndTheChosenLight) {
   EXPECT_TRUE(shows(t, "{ " + std::to_string(h.st.session->thread_count()) + " } threads")) << t;
   // The Cornell box's ceiling light, 0.47 x 0.38 at y = 1.98, emitting (17, 12, 4): intensity 17, colour
   // (1, 12/17, 4/17) = (255, 180, 60) in bytes.
-  EXPECT_TRUE(shows(t, "{ 0: light (rectangle 0.47 x 0.38) } light")) << t;
-  EXPECT_TRUE(shows(t, "{ 0.47 } { 0.38 } size W x H")) << t;
-  EXPECT_TRUE(shows(t, "{ 0 } { 1.98 } { 0 } position")) << t;
-  EXPECT_TRUE(shows(t, "{ R:255 } { G:180 } { B: 60 } color")) << t;
-  EXPECT_TRUE(shows(t, "{ 17.000 } intensity")) << t;
-  EXPECT_TRUE(shows(t, "material light")) << t;
-  EXPECT_TRUE(shows(t, "{ 3.9 } orbit distance")) << t;  // eye (0, 1, 3.9), target (0, 1, 0)
-  EXPECT_TRUE(shows(t, "triangles 32  spheres 0  lights 1")) << t;
+  EXPECT_TRUE(shows_all(
+      t, {"{ 0: light (rectangle 0.47 x 0.38) } light", "{ 0.47 } { 0.38 } size W x H", "{ 0 } { 1.98 } { 0 } position",
+          "{ R:255 } { G:180 } { B: 60 } color", "{ 17.000 } intensity", "material light",
+          "{ 3.9 } orbit distance",  // eye (0, 1, 3.9), target (0, 1, 0)
+          "triangles 32  spheres 0  lights 1"}));
   EXPECT_FALSE(shows(t, "stopped")) << t;  // adaptive sampling is off
   h.st.scene.warnings = {"a.obj: 2 zero-area triangles dropped"};
   h.st.apply(LightEmissionEdit{0, vec3(1.0f, 0.5f, 0.25f), 8.0f});
@@ -611,12 +613,9 @@ TEST(Panels, ThePanelsShowTheSceneAndTheChosenLight) {
   h.st.frame.converged_fraction = 0.25;
   h.st.frame.converged = false;
   t = h.text();
-  EXPECT_TRUE(shows(t, "{ R:255 } { G:128 } { B: 64 } color")) << t;
-  EXPECT_TRUE(shows(t, "{ 8.000 } intensity")) << t;
-  EXPECT_TRUE(shows(t, "{ 0.94 } { 0.76 } size W x H")) << t;
-  EXPECT_TRUE(shows(t, "a.obj: 2 zero-area triangles dropped")) << t;
-  EXPECT_TRUE(shows(t, "[x] adaptive { 0.0500 } threshold")) << t;
-  EXPECT_TRUE(shows(t, "stopped 25.0% of pixels")) << t;
+  EXPECT_TRUE(shows_all(
+      t, {"{ R:255 } { G:128 } { B: 64 } color", "{ 8.000 } intensity", "{ 0.94 } { 0.76 } size W x H",
+          "a.obj: 2 zero-area triangles dropped", "[x] adaptive { 0.0500 } threshold", "stopped 25.0% of pixels"}));
   h.st.frame.converged_fraction = 1.0;
   h.st.frame.converged = true;
   t = h.text();
@@ -626,8 +625,8 @@ TEST(Panels, ThePanelsShowTheSceneAndTheChosenLight) {
 TEST(Panels, TheStatsPanelComparesBothSidesInEqualTime) {
   PanelHarness h;
   start(h);
-  h.st.apply(CompareEdit{CompareConfig{h.st.params.integrator, h.st.params.light_sampling, SamplerKind::independent,
-                                       {}}});
+  h.st.apply(
+      CompareEdit{CompareConfig{h.st.params.integrator, h.st.params.light_sampling, SamplerKind::independent, {}}});
   ASSERT_TRUE(h.st.compare.has_value());
   h.st.set_paused(true);
   h.fetch = false;
@@ -646,10 +645,8 @@ TEST(Panels, TheStatsPanelComparesBothSidesInEqualTime) {
   std::string t = h.text();
   EXPECT_TRUE(shows(t, "| true relMSE | 0.03 | 0.015 |")) << t;
   // Efficiency 1 / (relMSE x t): A 1 / 0.04, B 1 / 0.01, so B/A = 4.
-  EXPECT_TRUE(shows(t, "efficiency B/A 4.00")) << t;
-  EXPECT_TRUE(shows(t, "| spp | 12 | 30 |")) << t;
-  EXPECT_TRUE(shows(t, "| seconds | 2.00 | 1.00 |")) << t;
-  EXPECT_TRUE(shows(t, "| est relMSE | 0.02 | 0.01 |")) << t;
+  EXPECT_TRUE(shows_all(
+      t, {"efficiency B/A 4.00", "| spp | 12 | 30 |", "| seconds | 2.00 | 1.00 |", "| est relMSE | 0.02 | 0.01 |"}));
   b.preview = true;  // no estimate on one side: no ratio
   t = h.text();
   EXPECT_TRUE(shows(t, "| est relMSE | 0.02 | - |")) << t;
