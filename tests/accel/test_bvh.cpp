@@ -249,6 +249,12 @@ void check_trace_structure(const TraceGeometry& g, const Soup& s) {
   check_structure(g.sphere_bvh, prim_boxes(only_spheres), 8);
   for (size_t k = 0; k < g.spheres.size(); ++k)
     EXPECT_EQ(g.spheres[k].prim, s.tri_count() + g.sphere_bvh.prim_indices[k]);
+  // The bounds of both trees together, exactly (the viewer's unit of length, camera_control.h scene_size).
+  AABB all;
+  for (uint32_t p = 0; p < s.tri_count(); ++p) all.extend(finite_or_empty(tri_box(p)));
+  for (const SphereShape& sp : s.spheres) all.extend(finite_or_empty(sp.bounds()));
+  EXPECT_EQ(g.bounds().lo, all.lo);
+  EXPECT_EQ(g.bounds().hi, all.hi);
 }
 
 /// Rays of every kind a traversal can get wrong, by i % 10: far-away origins aimed at the scene; directions with
@@ -538,6 +544,32 @@ TEST(Bvh, IdenticalTrianglesKeepDepthBoundedAndHit) {
   EXPECT_FLOAT_EQ(hit.t, 3.0f);
   EXPECT_LT(hit.prim, 10000u);
   expect_matches_brute_force(g, s, 3000, 40, 0);
+}
+
+// A leaf of the wide tree holds at most kMaxLeafBlocks blocks of 4, whatever leaf size the options ask for: the
+// binary build is held to that limit (triangle_build_options), so many identical triangles, which only median
+// splits can part, still end in leaves the wide tree can hold. A leaf size below one is taken as one.
+TEST(Bvh, TheLeafSizeAskedForIsHeldToWhatAWideLeafHolds) {
+  Soup s;
+  for (int i = 0; i < 200; ++i) s.tris.insert(s.tris.end(), {vec3(-1, -1, 0), vec3(1, -1, 0), vec3(0, 1, 0)});
+  for (int leaf : {1000, 17, 0, -5}) {
+    BvhBuildOptions options;
+    options.max_leaf_size = leaf;
+    EXPECT_EQ(triangle_build_options(options).max_leaf_size, std::clamp(leaf, 1, 4 * int(kMaxLeafBlocks)));
+    TraceGeometry g = make_trace_geometry(s.tris, {}, options);
+    check_trace_structure(g, s);
+    expect_matches_brute_force(g, s, 2000, 50, 0);
+  }
+}
+
+// The memory figure (stats JSON "bvh.bytes") counts what traversal reads of both trees: spheres add their tree and
+// their data to the triangles' bytes.
+TEST(Bvh, TheMemoryFigureCountsTheSpheres) {
+  const Soup tris = mixed_soup(300, 0, 12), both = mixed_soup(300, 40, 12);
+  const TraceGeometry a = make_trace_geometry(tris.tris, {}), b = make_trace_geometry(both.tris, both.spheres);
+  EXPECT_EQ(a.stats.memory_bytes, a.triangles.bytes());
+  EXPECT_GE(b.stats.memory_bytes,
+            b.triangles.bytes() + 40 * sizeof(TraceGeometry::Sphere) + (2 * 40 - 1) * sizeof(BvhNode));
 }
 
 TEST(Bvh, CollinearAndGeometricCentroidsKeepDepthBounded) {
