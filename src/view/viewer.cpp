@@ -241,6 +241,7 @@ int run_viewer(const RenderParams& params, const DisplaySettings& display, const
     const ImageArea area = image_area(fb_w, fb_h, ww, float(kPanelWidth) * xscale, st.params.width, st.params.height);
 
     st.poll_load();
+    st.poll_saves();
     bool divider_mouse = drag_divider(window, st, area, io.WantCaptureMouse, divider_drag);
     if (process_input(window, input, st, area, dt, io.WantCaptureMouse || divider_mouse, io.WantCaptureKeyboard))
       panels.open_material = true;
@@ -307,8 +308,11 @@ int run_viewer(const RenderParams& params, const DisplaySettings& display, const
     glfwSwapBuffers(window);
     if (quit) break;
   }
-  for (auto& f : st.saves)
-    if (f.valid() && report(f.get())) exit_code = 2;
+  st.poll_saves(true);
+  for (const Error& e : st.save_errors) {
+    report(e);
+    exit_code = 2;
+  }
   if (!hooks.stats_json.empty() && report(write_file_atomic(hooks.stats_json, st.stats_json()))) exit_code = 2;
   st.session.reset();
   st.session_b.reset();

@@ -280,8 +280,21 @@ bool ViewerState::select_at(int x, int y) {
 
 void ViewerState::save_current(const std::string& path) {
   Image copy = frame.image;
-  saves.push_back(std::async(std::launch::async, [path, copy = std::move(copy)]() { return save_image(path, copy); }));
+  saves.push_back(
+      {path, std::async(std::launch::async, [path, copy = std::move(copy)] { return save_image(path, copy); })});
   status = "saving " + path;
+}
+
+void ViewerState::poll_saves(bool wait) {
+  size_t done = 0;
+  for (; done < saves.size(); ++done) {
+    PendingSave& s = saves[done];
+    if (!wait && s.result.wait_for(std::chrono::seconds(0)) != std::future_status::ready) break;
+    std::optional<Error> err = s.result.get();
+    status = err ? err->message : "saved " + s.path;
+    if (err) save_errors.push_back(std::move(*err));
+  }
+  saves.erase(saves.begin(), saves.begin() + std::ptrdiff_t(done));
 }
 
 std::optional<Error> ViewerState::save_scene(const std::string& path) {

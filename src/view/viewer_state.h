@@ -89,7 +89,13 @@ struct ViewerState {
   std::shared_ptr<LoadProgress> load_progress;
   std::string loading_path;
   std::string status;          ///< last message shown in the Scene panel
-  std::vector<std::future<std::optional<Error>>> saves;
+  /// An image being written on its own thread (save_current), until poll_saves takes its outcome.
+  struct PendingSave {
+    std::string path;
+    std::future<std::optional<Error>> result;
+  };
+  std::vector<PendingSave> saves;
+  std::vector<Error> save_errors;  ///< saves that failed: reported on stderr at exit, and by the exit code (2)
 
   /// Installs `scene` (finalized) and builds its geometry on this thread; with `threads` >= 0 also starts a render
   /// session (tests without rendering pass -1).
@@ -120,6 +126,9 @@ struct ViewerState {
   void start_load(const std::string& path);
   /// Applies a finished load, if any (a SceneEdit). Returns true if a new scene was installed.
   bool poll_load();
+  /// Takes the saves that finished, in the order they were asked for: the status line says "saved PATH" or why
+  /// not, and failures go to save_errors. With `wait`, first waits for all of them (at exit: no file half-written).
+  void poll_saves(bool wait = false);
   /// Object under full-resolution pixel (x, y): its material, and the light it belongs to (or -1).
   struct PickResult {
     int material = -1;
@@ -128,7 +137,8 @@ struct ViewerState {
   PickResult pick(int x, int y) const;
   /// Selects what `pick` found: its material, and the light if it is one.
   bool select_at(int x, int y);
-  /// Saves the current mean on a background thread.
+  /// Saves the current mean to `path` on a background thread (the status line says "saving PATH" until
+  /// poll_saves sees it done).
   void save_current(const std::string& path);
   /// Writes the scene as shown (camera, edited materials and lights, meshes) as a version-1 JSON, atomically.
   std::optional<Error> save_scene(const std::string& path);

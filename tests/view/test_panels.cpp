@@ -325,8 +325,20 @@ TEST(Panels, SaveImageWritesTheFileOrSaysWhichExtensionsWork) {
   EXPECT_FALSE(fs::exists(bad));
   h.type(p.then("file"), good, false);
   h.click(p.then("save image"));
-  for (auto& f : h.st.saves) f.wait();
+  EXPECT_EQ(h.st.status, "saving " + good);
+  h.st.poll_saves(true);
+  EXPECT_EQ(h.st.status, "saved " + good) << "the status line says when the file is written";
   EXPECT_TRUE(fs::exists(good));
+  // A save that fails says why on the status line, and is kept for the exit code. (A directory where the file
+  // should go: the write fails even as root.)
+  const std::string blocked = (dir.path / "blocked.png").string();
+  fs::create_directory(blocked);
+  h.type(p.then("file"), blocked, false);
+  h.click(p.then("save image"));
+  h.st.poll_saves(true);
+  ASSERT_EQ(h.st.save_errors.size(), 1u);
+  EXPECT_EQ(h.st.status, h.st.save_errors[0].message);
+  EXPECT_NE(h.st.status.find(blocked), std::string::npos) << h.st.status;
 }
 
 TEST(Panels, TheCameraPanelMovesTheCameraAndResetsIt) {

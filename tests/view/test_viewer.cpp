@@ -10,6 +10,7 @@
 #include "render/image.h"
 #include "scene/builtin_assets.h"
 #include "view/camera_control.h"
+#include "view/display_mode.h"
 #include "view/input.h"
 
 namespace pt {
@@ -484,13 +485,18 @@ double image_area_diff(const Png& a, const Png& b) {
   return d / double(n * 3);
 }
 
-/// Count of image-area pixels close to the heat colour map's top colour (252, 255, 163) in sRGB.
+/// Close to the heat colour map's top colour (252, 255, 163) in sRGB.
+bool is_top_heat(const unsigned char* q) {
+  return std::abs(q[0] - 252) < 8 && std::abs(q[1] - 255) < 8 && std::abs(q[2] - 163) < 10;
+}
+
+/// Count of image-area pixels of the heat colour map's top colour.
 size_t top_heat_pixels(const Png& p) {
   size_t n = 0;
   for (int y = 0; y < p.h; ++y)
     for (int x = kPanelPx; x < p.w; ++x) {
       const unsigned char* q = &p.rgb[(size_t(y) * p.w + x) * 3];
-      n += std::abs(q[0] - 252) < 8 && std::abs(q[1] - 255) < 8 && std::abs(q[2] - 163) < 10;
+      n += is_top_heat(q);
     }
   return n;
 }
@@ -525,9 +531,11 @@ TEST(Viewer, ReferenceErrorModeAndTrueRelMse) {
   TempDir dir;
   auto h = test::run_ptview({"--size", "64x48", "--max-depth", "4", "--frames", "64", "--out", dir / "ref.pfm"}, 120);
   ASSERT_EQ(h.exit_code, 0) << h.err;
+  // The render keeps the reference's size: the window's image area (far larger) is not followed, however long
+  // the viewer waits (the follower's debounce is 0.25 s).
   std::string script = write_script(dir, "wait-frames 2\nscreenshot " + dir / "image.png" +
                                              "\ndisplay reference-error\nexpect-no-restart\nscreenshot " +
-                                             dir / "referr.png" + "\nquit\n");
+                                             dir / "referr.png" + "\nwait-ms 800\nexpect-no-restart\nquit\n");
   auto r = run_window({"--max-depth", "4", "--reference", dir / "ref.pfm", "--script", script, "--stats-json",
                        dir / "stats.json"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -543,6 +551,10 @@ TEST(Viewer, ReferenceErrorModeAndTrueRelMse) {
   auto b = run_window({"--size", "64x48", "--script", bad});
   EXPECT_EQ(b.exit_code, 3);
   EXPECT_NE(b.err.find("script.txt:2: display reference-error: needs --reference"), std::string::npos) << b.err;
+  // A size given with --size must be the reference's (the error image compares pixel for pixel).
+  auto sized = run_window({"--size", "32x24", "--reference", dir / "ref.pfm", "--script", bad});
+  EXPECT_EQ(sized.exit_code, 2);
+  EXPECT_NE(sized.err.find("reference is 64x48, the render 32x24"), std::string::npos) << sized.err;
 }
 
 /// Mean luminance and its variance over columns [x0, x1) of a screenshot's rows [y0, y1).
@@ -591,6 +603,54 @@ TEST(Viewer, EqualTimeCompareShowsBothSidesAndTheirStats) {
   auto b = run_window({"--size", "64x48", "--script", bad});
   EXPECT_EQ(b.exit_code, 2);
   EXPECT_NE(b.err.find("script.txt:1:"), std::string::npos) << b.err;
+}
+
+/// The fraction of a screenshot's pixels in columns [x0, x1), rows [y0, y1) that `pred` accepts.
+template <class Pred>
+double region_fraction(const Png& p, int x0, int x1, int y0, int y1, Pred pred) {
+  size_t n = 0, hit = 0;
+  for (int y = y0; y < y1; ++y)
+    for (int x = x0; x < x1; ++x, ++n) hit += pred(&p.rgb[(size_t(y) * p.w + x) * 3]);
+  return n ? double(hit) / double(n) : 0.0;
+}
+
+/// Within a few levels of some colour of the heat map (display_mode.h heat_srgb): a heatmap pixel, not an image's.
+bool on_heat_ramp(const unsigned char* q) {
+  for (int i = 0; i <= 512; ++i) {
+    const vec3 c = heat_srgb(float(i) / 512.0f) * 255.0f;
+    if (std::abs(q[0] - c.x) < 6 && std::abs(q[1] - c.y) < 6 && std::abs(q[2] - c.z) < 6) return true;
+  }
+  return false;
+}
+
+// Each side of a compare is drawn from its own session, on its own side of the divider, and both are redrawn when
+// the display mode changes, even once both have stopped and no new frame will come. B samples adaptively and A does
+// not, so their sample maps differ: A's is the top colour throughout, B's mostly not. A heatmap ignores the
+// exposure (it is display-ready), with or without a compare.
+TEST(Viewer, ACompareDrawsEachSideOnItsOwnHalfAndRedrawsBothOnADisplayChange) {
+  REQUIRE_DISPLAY();
+  TempDir dir;
+  std::string script = write_script(
+      dir, "stop-at-spp 32\nexposure 3\ncompare adaptive=0.5\nexpect-restart\ndivider 0.5\nwait-frames 32\n"
+           "wait-ms 300\ndisplay samples\nexpect-no-restart\nscreenshot " + dir / "ab.png" +
+           "\ncompare off\nexpect-no-restart\nscreenshot " + dir / "a.png" + "\nquit\n");
+  auto r = run_window({"--size", "128x96", "--max-depth", "4", "--script", script, "--stats-json", dir / "stats.json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  Png ab(dir / "ab.png"), a(dir / "a.png");
+  ASSERT_TRUE(ab.ok() && a.ok());
+  // As in EqualTimeCompareShowsBothSidesAndTheirStats: the render's place in the window; rows below the A and B
+  // labels, columns clear of the divider.
+  const int area_w = ab.w - kPanelPx, x0 = kPanelPx + (area_w - 128) / 2, y0 = (ab.h - 96) / 2;
+  const double left_top = region_fraction(ab, x0 + 2, x0 + 58, y0 + 20, y0 + 94, is_top_heat),
+               right_top = region_fraction(ab, x0 + 70, x0 + 126, y0 + 20, y0 + 94, is_top_heat),
+               right_heat = region_fraction(ab, x0 + 70, x0 + 126, y0 + 20, y0 + 94, on_heat_ramp);
+  EXPECT_GT(left_top, 0.95) << "A, without adaptive sampling: every pixel has the most samples";
+  EXPECT_GT(right_heat, 0.95) << "B's side shows its sample map, not its image";
+  EXPECT_LT(right_top, 0.6) << "B's adaptive sampling stopped many pixels early";
+  EXPECT_GT(region_fraction(a, x0 + 2, x0 + 126, y0 + 2, y0 + 94, is_top_heat), 0.95) << "A alone, exposure ignored";
+  auto j = nlohmann::json::parse(read_file(dir / "stats.json"));
+  EXPECT_EQ(j["spp"].get<int>(), 32);
+  EXPECT_EQ(j["display_mode"], "samples");
 }
 
 TEST(Viewer, AdaptiveThresholdChangesNeverRestart) {
@@ -667,6 +727,39 @@ TEST(Viewer, OffloadOrbitRestartsEveryRank) {
               d_before);
   EXPECT_LT(d_after, 0.3 * d_before);
 #endif
+}
+
+// --quit-after-frames counts the frames of the scene as the script left it: a script that ends with an edit
+// quits only once the edited scene has rendered that many frames, not on the frames the edit discarded.
+TEST(Viewer, QuitAfterFramesCountsTheFramesOfTheLastEdit) {
+  REQUIRE_DISPLAY();
+  TempDir dir;
+  std::string script = write_script(dir, "wait-frames 3\nlight-scale 0.5\nexpect-restart\n");
+  auto r = run_window({"--size", "64x48", "--max-depth", "3", "--quit-after-frames", "3", "--script", script,
+                       "--stats-json", dir / "stats.json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  auto j = nlohmann::json::parse(read_file(dir / "stats.json"));
+  EXPECT_EQ(j["epoch"].get<int>(), 2) << "the frames shown at exit are the edited scene's";
+  EXPECT_GE(j["frames"].get<int>(), 3);
+}
+
+// An image the viewer cannot write (here a directory stands where the file should go, which stops even root) is
+// one line on stderr naming it, and exit 2 once the window closes; the rest of the script still runs.
+TEST(Viewer, AnImageThatCannotBeWrittenExitsTwoNamingIt) {
+  REQUIRE_DISPLAY();
+  TempDir dir;
+  fs::create_directory(dir / "saved.png");
+  fs::create_directory(dir / "shot.png");
+  for (const std::string& command : {"save " + dir / "saved.png", "screenshot " + dir / "shot.png"}) {
+    std::string script = write_script(dir, "wait-frames 1\n" + command + "\nwait-frames 2\nquit\n");
+    auto r = run_window({"--size", "64x48", "--max-depth", "3", "--script", script, "--stats-json",
+                         dir / "stats.json"});
+    EXPECT_EQ(r.exit_code, 2) << command << ": " << r.err;
+    const std::string path = command.substr(command.find(' ') + 1);
+    EXPECT_NE(r.err.find("ptview: error: " + path), std::string::npos) << r.err;
+    EXPECT_TRUE(fs::exists(dir / "stats.json")) << "the stats are still written";
+    fs::remove(dir / "stats.json");
+  }
 }
 
 TEST(Viewer, WithoutADisplayExitsTwoSuggestingFrames) {
