@@ -633,11 +633,12 @@ TEST(Viewer, ACompareDrawsEachSideOnItsOwnHalfAndRedrawsBothOnADisplayChange) {
   std::string script = write_script(
       dir, "stop-at-spp 32\nexposure 3\ncompare adaptive=0.5\nexpect-restart\ndivider 0.5\nwait-frames 32\n"
            "wait-ms 300\ndisplay samples\nexpect-no-restart\nscreenshot " + dir / "ab.png" +
-           "\ncompare off\nexpect-no-restart\nscreenshot " + dir / "a.png" + "\nquit\n");
+           "\ndisplay image\nscreenshot " + dir / "ab_image.png" + "\ndisplay samples\ncompare off\n"
+           "expect-no-restart\nscreenshot " + dir / "a.png" + "\nquit\n");
   auto r = run_window({"--size", "128x96", "--max-depth", "4", "--script", script, "--stats-json", dir / "stats.json"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  Png ab(dir / "ab.png"), a(dir / "a.png");
-  ASSERT_TRUE(ab.ok() && a.ok());
+  Png ab(dir / "ab.png"), ab_image(dir / "ab_image.png"), a(dir / "a.png");
+  ASSERT_TRUE(ab.ok() && ab_image.ok() && a.ok());
   // As in EqualTimeCompareShowsBothSidesAndTheirStats: the render's place in the window; rows below the A and B
   // labels, columns clear of the divider.
   const int area_w = ab.w - kPanelPx, x0 = kPanelPx + (area_w - 128) / 2, y0 = (ab.h - 96) / 2;
@@ -647,6 +648,8 @@ TEST(Viewer, ACompareDrawsEachSideOnItsOwnHalfAndRedrawsBothOnADisplayChange) {
   EXPECT_GT(left_top, 0.95) << "A, without adaptive sampling: every pixel has the most samples";
   EXPECT_GT(right_heat, 0.95) << "B's side shows its sample map, not its image";
   EXPECT_LT(right_top, 0.6) << "B's adaptive sampling stopped many pixels early";
+  EXPECT_LT(region_fraction(ab_image, x0 + 70, x0 + 126, y0 + 20, y0 + 94, on_heat_ramp), 0.5)
+      << "back to the image on B's side too";
   EXPECT_GT(region_fraction(a, x0 + 2, x0 + 126, y0 + 2, y0 + 94, is_top_heat), 0.95) << "A alone, exposure ignored";
   auto j = nlohmann::json::parse(read_file(dir / "stats.json"));
   EXPECT_EQ(j["spp"].get<int>(), 32);
