@@ -206,7 +206,6 @@ void scene_panel(ViewerState& st, PanelState& ps) {
     ImGui::Text("BVH8 nodes %zu  blocks %zu  build %.1f ms", t.triangles.node_count, t.triangles.block_count,
                 t.stats.build_ms);
   }
-  if (!st.status.empty()) ImGui::TextWrapped("%s", st.status.c_str());
   for (const std::string& w : st.scene.warnings) ImGui::TextColored(ImVec4(1, 0.7f, 0.3f, 1), "%s", w.c_str());
 }
 
@@ -354,6 +353,9 @@ void draw_panels(ViewerState& st, PanelState& ps, float width, float height) {
   ImGui::Begin("ptview", nullptr, ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse |
                                       ImGuiWindowFlags_NoTitleBar);
   ImGui::PushItemWidth(width * 0.55f);
+  // The status line heads the column: what a click started or refused (a save, a load, a display mode) is seen
+  // whichever panels are open.
+  if (!st.status.empty()) ImGui::TextWrapped("%s", st.status.c_str());
   if (ImGui::CollapsingHeader("Render", ImGuiTreeNodeFlags_DefaultOpen)) render_panel(st, ps);
   if (ImGui::CollapsingHeader("Camera")) camera_panel(st);
   if (ps.open_material) {

@@ -88,7 +88,7 @@ struct ViewerState {
   std::future<Result<LoadedScene>> loading;
   std::shared_ptr<LoadProgress> load_progress;
   std::string loading_path;
-  std::string status;          ///< last message shown in the Scene panel
+  std::string status;          ///< the last message of a save, load or refused edit: the panel column's first line
   /// An image being written on its own thread (save_current), until poll_saves takes its outcome.
   struct PendingSave {
     std::string path;

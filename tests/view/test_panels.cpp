@@ -532,6 +532,23 @@ bool shows(const std::string& text, const std::string& line) {
   return ::testing::AssertionFailure() << "not shown:\n" << missing << "in:\n" << text;
 }
 
+// The status line heads the panel column, seen whichever panels are open: with the Scene panel closed (as it
+// starts), a refused save and a display mode refused without a reference still say why.
+TEST(Panels, TheStatusLineIsSeenWithThePanelsClosed) {
+  PanelHarness h;
+  start(h);
+  const IdPath p = PanelHarness::panel();
+  const std::string bad = (h.dir.path / "image.bmp").string();
+  h.type(p.then("file"), bad, false);
+  h.click(p.then("save image"));
+  std::string t = h.text();
+  EXPECT_TRUE(shows(t, bad + ": use .png, .exr or .pfm")) << t;
+  EXPECT_EQ(t.find("save scene"), std::string::npos) << "the Scene panel is closed";
+  h.choose(p.then("show"), "reference-error");
+  t = h.text();
+  EXPECT_TRUE(shows(t, "reference-error needs --reference")) << t;
+}
+
 /// The Stats panel's figures, from a frame whose values the test sets (the session paused, the harness no longer
 /// fetching): each figure worked out by hand, not by the panel's formula.
 TEST(Panels, TheStatsPanelShowsTheFramesFigures) {
