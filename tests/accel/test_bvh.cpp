@@ -565,8 +565,8 @@ TEST(Bvh, TheLeafSizeAskedForIsHeldToWhatAWideLeafHolds) {
 // The memory figure (stats JSON "bvh.bytes") counts what traversal reads of both trees: spheres add their tree and
 // their data to the triangles' bytes.
 TEST(Bvh, TheMemoryFigureCountsTheSpheres) {
-  const Soup tris = mixed_soup(300, 0, 12), both = mixed_soup(300, 40, 12);
-  const TraceGeometry a = make_trace_geometry(tris.tris, {}), b = make_trace_geometry(both.tris, both.spheres);
+  const Soup s = mixed_soup(300, 40, 12);
+  const TraceGeometry a = make_trace_geometry(s.tris, {}), b = make_trace_geometry(s.tris, s.spheres);
   EXPECT_EQ(a.stats.memory_bytes, a.triangles.bytes());
   EXPECT_GE(b.stats.memory_bytes,
             b.triangles.bytes() + 40 * sizeof(TraceGeometry::Sphere) + (2 * 40 - 1) * sizeof(BvhNode));

@@ -490,16 +490,17 @@ bool is_top_heat(const unsigned char* q) {
   return std::abs(q[0] - 252) < 8 && std::abs(q[1] - 255) < 8 && std::abs(q[2] - 163) < 10;
 }
 
-/// Count of image-area pixels of the heat colour map's top colour.
-size_t top_heat_pixels(const Png& p) {
+/// The count of a screenshot's pixels in columns [x0, x1), rows [y0, y1) that `pred` accepts.
+template <class Pred>
+size_t region_count(const Png& p, int x0, int x1, int y0, int y1, Pred pred) {
   size_t n = 0;
-  for (int y = 0; y < p.h; ++y)
-    for (int x = kPanelPx; x < p.w; ++x) {
-      const unsigned char* q = &p.rgb[(size_t(y) * p.w + x) * 3];
-      n += is_top_heat(q);
-    }
+  for (int y = y0; y < y1; ++y)
+    for (int x = x0; x < x1; ++x) n += pred(&p.rgb[(size_t(y) * p.w + x) * 3]);
   return n;
 }
+
+/// Count of image-area pixels of the heat colour map's top colour.
+size_t top_heat_pixels(const Png& p) { return region_count(p, kPanelPx, p.w, 0, p.h, is_top_heat); }
 
 TEST(Viewer, DisplayModesChangeThePixelsWithoutRestarting) {
   REQUIRE_DISPLAY();
@@ -605,21 +606,22 @@ TEST(Viewer, EqualTimeCompareShowsBothSidesAndTheirStats) {
   EXPECT_NE(b.err.find("script.txt:1:"), std::string::npos) << b.err;
 }
 
-/// The fraction of a screenshot's pixels in columns [x0, x1), rows [y0, y1) that `pred` accepts.
+/// The fraction of the pixels in columns [x0, x1), rows [y0, y1) that `pred` accepts (region_count).
 template <class Pred>
 double region_fraction(const Png& p, int x0, int x1, int y0, int y1, Pred pred) {
-  size_t n = 0, hit = 0;
-  for (int y = y0; y < y1; ++y)
-    for (int x = x0; x < x1; ++x, ++n) hit += pred(&p.rgb[(size_t(y) * p.w + x) * 3]);
-  return n ? double(hit) / double(n) : 0.0;
+  const size_t n = size_t(std::max(0, x1 - x0)) * size_t(std::max(0, y1 - y0));
+  return n ? double(region_count(p, x0, x1, y0, y1, pred)) / double(n) : 0.0;
 }
 
 /// Within a few levels of some colour of the heat map (display_mode.h heat_srgb): a heatmap pixel, not an image's.
 bool on_heat_ramp(const unsigned char* q) {
-  for (int i = 0; i <= 512; ++i) {
-    const vec3 c = heat_srgb(float(i) / 512.0f) * 255.0f;
+  static const std::vector<vec3> ramp = [] {
+    std::vector<vec3> r;
+    for (int i = 0; i <= 512; ++i) r.push_back(heat_srgb(float(i) / 512.0f) * 255.0f);
+    return r;
+  }();
+  for (const vec3& c : ramp)
     if (std::abs(q[0] - c.x) < 6 && std::abs(q[1] - c.y) < 6 && std::abs(q[2] - c.z) < 6) return true;
-  }
   return false;
 }
 
