@@ -44,6 +44,34 @@ TEST(Sobol, DirectionNumbersGiveTheKnownFirstPoints) {
     for (int d = 0; d < 4; ++d) EXPECT_EQ(sobol_reference(i, d) * 0x1p-32, expected[i][d]) << "index " << i << " dim " << d;
 }
 
+TEST(Sobol, DirectionNumbersFollowTheirPrimitivePolynomials) {
+  // The first eight points above check only the initial direction integers m_1..m_3; every index bit from 3 up
+  // comes from the recurrence over the primitive polynomial (Bratley and Fox 1988, eq. (2); Joe and Kuo 2008).
+  // m_1..m_16 of dimensions 1-3 (polynomials x + 1, x^2 + x + 1, x^3 + x + 1 with the Joe-Kuo initial values),
+  // written out as the published recurrence gives them:
+  const uint32_t m[3][16] = {
+      {1, 3, 5, 15, 17, 51, 85, 255, 257, 771, 1285, 3855, 4369, 13107, 21845, 65535},
+      {1, 3, 3, 9, 29, 23, 71, 197, 209, 627, 1907, 1369, 4109, 12327, 12407, 36949},
+      {1, 3, 1, 5, 31, 29, 81, 147, 433, 149, 719, 3693, 3841, 11523, 16641, 49925}};
+  const auto& v = sobol_detail::kDirections;
+  for (int d = 1; d < 4; ++d)
+    for (int j = 0; j < 16; ++j) EXPECT_EQ(v[size_t(d)][size_t(j)], m[d - 1][j] << (31 - j)) << "dim " << d << " bit " << j;
+  // All 32 by the recurrence in its fixed-point form: v_i = v_{i-s} ^ (v_{i-s} >> s) ^ a_k v_{i-k} (k = 1..s-1).
+  const int degree[4] = {0, 1, 2, 3};
+  const uint32_t coefficients[4] = {0, 0, 1, 1};
+  for (int d = 1; d < 4; ++d) {
+    const int s = degree[d];
+    for (int i = s; i < 32; ++i) {
+      uint32_t want = v[size_t(d)][size_t(i - s)] ^ (v[size_t(d)][size_t(i - s)] >> s);
+      for (int k = 1; k < s; ++k)
+        if ((coefficients[d] >> (s - 1 - k)) & 1u) want ^= v[size_t(d)][size_t(i - k)];
+      EXPECT_EQ(v[size_t(d)][size_t(i)], want) << "dim " << d << " bit " << i;
+    }
+  }
+  // Dimension 0 is the van der Corput sequence: bit j of the index is worth 2^-(j+1).
+  for (int j = 0; j < 32; ++j) EXPECT_EQ(v[0][size_t(j)], 1u << (31 - j));
+}
+
 TEST(Sobol, ByteTablesMatchTheDefinitionOnTheTop24Bits) {
   // The fast path reads the bit-reversed index a byte at a time, index bits 0-23; it must equal the plain XOR of
   // direction numbers for every index below 2^24 (small ones and random ones).

@@ -2,7 +2,8 @@
 // refits instead of rebuilding.
 //  - a refit of moved (here: rotated) geometry equals a rebuild of it: vertices, shading normals, per-triangle
 //    shading, spheres, and the hits of the refitted tree;
-//  - a shading normal given on the far side of its triangle is turned to the geometric normal's side.
+//  - a shading normal given on the far side of its triangle is turned to the geometric normal's side;
+//  - every primitive reads its own material, and a world ray keeps its world length in the render frame.
 #include <gtest/gtest.h>
 
 #include <cstring>
@@ -96,6 +97,49 @@ TEST_P(RefitAtScale, ARefitOfMovedGeometryEqualsARebuild) {
     ++hits;
   }
   EXPECT_GT(hits, 1000);
+}
+
+TEST(RenderScene, EachPrimitiveReadsItsOwnMaterial) {
+  // The BVH numbers triangles first (meshes, then two per quad), then spheres: primitive_material must read the
+  // first sphere's material, not one past the last triangle's.
+  Scene s = pyramid_scene();
+  const uint32_t quad_material = test::add_material(s, test::diffuse(vec3(0.2f)));
+  const uint32_t sphere_material = test::add_material(s, test::diffuse(vec3(0.9f)));
+  s.quads[0].material = quad_material;
+  s.spheres[0].material = sphere_material;
+  s.spheres.push_back({vec3(-0.1f, -0.2f, 0.5f), 0.05f, quad_material});
+  const auto geo = make_render_geometry(s, {});
+  const uint32_t n = geo->triangle_count();
+  ASSERT_EQ(n, 8u);  // six mesh triangles and the quad's two
+  for (uint32_t t = 0; t < 6; ++t) EXPECT_EQ(primitive_material(*geo, t), 0u) << "triangle " << t;
+  EXPECT_EQ(primitive_material(*geo, 6), quad_material);
+  EXPECT_EQ(primitive_material(*geo, 7), quad_material);
+  EXPECT_EQ(primitive_material(*geo, n), sphere_material);
+  EXPECT_EQ(primitive_material(*geo, n + 1), quad_material);
+}
+
+class RenderFrameAtScale : public testing::TestWithParam<float> {};
+
+INSTANTIATE_TEST_SUITE_P(RenderGeometry, RenderFrameAtScale, testing::Values(1.0f, 0x1p-70f, 0x1p70f));
+
+TEST_P(RenderFrameAtScale, AWorldRayEndsAtItsWorldLength) {
+  // to_render_frame moves a world ray into the render frame (shifted and scaled): its origin and its tmax both, so
+  // a shadow ray or a pick limited to a world distance stops there whatever the scene's size. A ray from 5 f above
+  // the base, straight down, meets the apex (at f) after 4 f.
+  const float f = GetParam();
+  const RenderScene rs = make_render_scene(scaled(pyramid_scene(), f));
+  EXPECT_EQ(rs.geo->scale == 1.0f, f == 1.0f);
+  for (const float length : {3.9f, 4.1f}) {
+    const Ray ray = to_render_frame(rs, Ray{vec3(0, 0, 5 * f), vec3(0, 0, -1), length * f});
+    EXPECT_EQ(intersect_any(rs.trace(), ray), length > 4.0f) << "a ray of " << length << " f";
+    Ray closest = ray;
+    Hit hit;
+    const bool found = intersect_closest(rs.trace(), closest, hit);
+    EXPECT_EQ(found, length > 4.0f) << "a ray of " << length << " f";
+    if (found) {
+      EXPECT_NEAR(hit.t / rs.geo->scale / f, 4.0f, 1e-5f);
+    }
+  }
 }
 
 TEST(RenderScene, AShadingNormalOnTheFarSideIsTurnedToTheGeometricSide) {
