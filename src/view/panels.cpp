@@ -84,7 +84,7 @@ void render_panel(ViewerState& st, PanelState& ps) {
   input_text("file", ps.save_path);
   if (ImGui::Button("save image")) {
     if (is_supported_image_extension(ps.save_path)) st.save_current(ps.save_path);
-    else st.status = ps.save_path + ": use .png, .exr or .pfm";
+    else st.say(ps.save_path + ": use .png, .exr or .pfm");
   }
   ImGui::SameLine();
   ImGui::TextDisabled(".png .exr .pfm");
@@ -212,7 +212,7 @@ void scene_panel(ViewerState& st, PanelState& ps) {
 void display_panel(ViewerState& st) {
   DisplayMode mode = st.display_mode;
   if (name_combo<DisplayMode>("show", kDisplayModeNames, mode) && st.apply(DisplayModeEdit{mode}) == Tier::none)
-    st.status = "reference-error needs --reference";
+    st.say("reference-error needs --reference");
   DisplaySettings d = st.display;
   bool changed = ImGui::SliderFloat("exposure", &d.exposure, -8.0f, 8.0f, "%.2f stops");
   changed |= name_combo<Tonemap>("tonemap", kTonemapNames, d.tonemap);
@@ -356,6 +356,12 @@ void draw_panels(ViewerState& st, PanelState& ps, float width, float height) {
   // The status line heads the column: what a click started or refused (a save, a load, a display mode) is seen
   // whichever panels are open.
   if (!st.status.empty()) ImGui::TextWrapped("%s", st.status.c_str());
+  if (!st.earlier_messages.empty() &&
+      ImGui::TreeNode("earlier", "earlier messages (%zu)", st.earlier_messages.size())) {
+    for (auto m = st.earlier_messages.rbegin(); m != st.earlier_messages.rend(); ++m)
+      ImGui::TextWrapped("%s", m->c_str());
+    ImGui::TreePop();
+  }
   if (ImGui::CollapsingHeader("Render", ImGuiTreeNodeFlags_DefaultOpen)) render_panel(st, ps);
   if (ImGui::CollapsingHeader("Camera")) camera_panel(st);
   if (ps.open_material) {

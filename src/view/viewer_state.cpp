@@ -228,10 +228,16 @@ Tier ViewerState::set_material(size_t index, const Material& m) {
   return Tier::material;
 }
 
+void ViewerState::say(std::string message) {
+  if (!status.empty()) earlier_messages.push_back(std::move(status));
+  if (earlier_messages.size() > kEarlierMessages) earlier_messages.pop_front();
+  status = std::move(message);
+}
+
 void ViewerState::start_load(const std::string& path) {
   if (loading.valid()) return;
   loading_path = path;
-  status = "loading " + path + " ...";
+  say("loading " + path + " ...");
   load_progress = std::make_shared<LoadProgress>();
   loading = std::async(std::launch::async, [path, progress = load_progress]() -> Result<LoadedScene> {
     Result<Scene> s = load_scene(path);
@@ -251,10 +257,10 @@ bool ViewerState::poll_load() {
   Result<LoadedScene> r = loading.get();
   load_progress.reset();
   if (!r) {
-    status = r.error();
+    say(r.error());
     return false;
   }
-  status = "loaded " + loading_path;
+  say("loaded " + loading_path);
   apply(SceneEdit{std::make_shared<LoadedScene>(std::move(*r))});
   return true;
 }
@@ -282,7 +288,7 @@ void ViewerState::save_current(const std::string& path) {
   Image copy = frame.image;
   saves.push_back(
       {path, std::async(std::launch::async, [path, copy = std::move(copy)] { return save_image(path, copy); })});
-  status = "saving " + path;
+  say("saving " + path);
 }
 
 void ViewerState::poll_saves(bool wait) {
@@ -291,7 +297,7 @@ void ViewerState::poll_saves(bool wait) {
     PendingSave& s = saves[done];
     if (!wait && s.result.wait_for(std::chrono::seconds(0)) != std::future_status::ready) break;
     std::optional<Error> err = s.result.get();
-    status = err ? err->message : "saved " + s.path;
+    say(err ? err->message : "saved " + s.path);
     if (err) save_errors.push_back(std::move(*err));
   }
   saves.erase(saves.begin(), saves.begin() + std::ptrdiff_t(done));
@@ -299,7 +305,7 @@ void ViewerState::poll_saves(bool wait) {
 
 std::optional<Error> ViewerState::save_scene(const std::string& path) {
   std::optional<Error> err = save_scene_json(scene, loaded_materials, path);
-  status = err ? err->message : "saved " + path;
+  say(err ? err->message : "saved " + path);
   return err;
 }
 

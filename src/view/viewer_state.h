@@ -3,6 +3,7 @@
 /// (mouse, keys, panels, script). No GL or window here: the tier tests drive it directly.
 #include <atomic>
 #include <chrono>
+#include <deque>
 #include <future>
 #include <limits>
 #include <map>
@@ -89,6 +90,12 @@ struct ViewerState {
   std::shared_ptr<LoadProgress> load_progress;
   std::string loading_path;
   std::string status;          ///< the last message of a save, load or refused edit: the panel column's first line
+  /// The messages before it, oldest first, at most kEarlierMessages: a save that finishes while a load is said, or
+  /// two refusals in one frame, are not lost to the next message.
+  std::deque<std::string> earlier_messages;
+  static constexpr size_t kEarlierMessages = 8;
+  /// The one way a message reaches the status line (panels, loads, saves, scripts).
+  void say(std::string message);
   /// An image being written on its own thread (save_current), until poll_saves takes its outcome.
   struct PendingSave {
     std::string path;

@@ -533,7 +533,8 @@ bool shows(const std::string& text, const std::string& line) {
 }
 
 // The status line heads the panel column, seen whichever panels are open: with the Scene panel closed (as it
-// starts), a refused save and a display mode refused without a reference still say why.
+// starts), a refused save and a display mode refused without a reference still say why. The messages before the
+// last are kept below it, newest first.
 TEST(Panels, TheStatusLineIsSeenWithThePanelsClosed) {
   PanelHarness h;
   start(h);
@@ -547,6 +548,22 @@ TEST(Panels, TheStatusLineIsSeenWithThePanelsClosed) {
   h.choose(p.then("show"), "reference-error");
   t = h.text();
   EXPECT_TRUE(shows(t, "reference-error needs --reference")) << t;
+  // The message before it is kept under the status line, closed until asked for.
+  EXPECT_TRUE(shows(t, "> earlier messages (1)")) << t;
+  EXPECT_EQ(t.find(bad + ": use"), std::string::npos) << t;
+  h.click(p.then("earlier"));
+  t = h.text();
+  EXPECT_TRUE(shows_all(
+      t, {"reference-error needs --reference", "> earlier messages (1)", "    " + bad + ": use .png, .exr or .pfm"}));
+  EXPECT_LT(t.find("earlier messages"), t.find(bad)) << t;
+  // Newest first, and at most kEarlierMessages of them: the oldest go.
+  for (int i = 0; i < 10; ++i) h.st.say("message " + std::to_string(i));
+  t = h.text();
+  EXPECT_TRUE(shows_all(t, {"message 9", "> earlier messages (8)", "    message 8", "    message 1"}));
+  EXPECT_EQ(t.find("message 0"), std::string::npos) << t;
+  EXPECT_EQ(t.find("reference-error needs"), std::string::npos) << t;
+  EXPECT_LT(t.find("message 9"), t.find("message 8")) << t;
+  EXPECT_LT(t.find("message 8"), t.find("message 1")) << t;
 }
 
 /// The Stats panel's figures, from a frame whose values the test sets (the session paused, the harness no longer
