@@ -307,6 +307,14 @@ TEST(Mpi, BadInputIsOneLineFromRankZero) {
   }
 }
 
+TEST(Mpi, HelpIsPrintedOnceByRankZero) {
+  SKIP_WITHOUT_MPI();
+  const auto r = run_mpi(3, {"--help"});
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.out, run_ptview({"--help"}).out) << "every rank parses the command line; only rank 0 prints";
+  EXPECT_EQ(r.err, "");
+}
+
 // The films are summed in messages of at most 4 MiB: an 800 x 600 film's sums of doubles (11 MiB a buffer) take
 // three, and every one must land at its own offset of rank 0's film.
 TEST(Mpi, FilmsLargerThanOneMessageSumWhole) {
