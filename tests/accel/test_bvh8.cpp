@@ -151,6 +151,37 @@ TEST(Bvh8, FourLaneTriangleTestEqualsScalarTestBitForBit) {
   EXPECT_GT(edge_rays, 50000);
 }
 
+// A hit whose distance underflows in float: the triangle lies a denormal step beyond the ray's origin, so the
+// distance's numerator t_scaled is a few denormal steps, rounded per term, and divided by a determinant above 2 it
+// rounds to zero. The double-precision decision (small_t_is_positive) finds the hit in front of the origin; the
+// distance reported must then be the smallest positive float, as intersect_triangle reports it, never 0 (a hit at
+// 0 is "behind or at the origin" to every caller that compares distances).
+TEST(Bvh8, AHitWhoseDistanceUnderflowsIsStillInFront) {
+  const Ray ray{vec3(0.0f), vec3(0, 0, 1), kInfinity};
+  const WatertightRay w = make_watertight_ray(ray);
+  const float z = std::numeric_limits<float>::denorm_min();
+  int smallest = 0;
+  for (int k = 0; k < 400; ++k) {
+    // The origin at barycentrics (1.4, 0.4, 0.4) / 2.2 of a right triangle in the plane z = denorm_min, scaled
+    // so that twice its area (the determinant) sweeps about 1 to 3.5.
+    const float b = 0.8f + 0.0025f * float(k);
+    const vec3 v1(b, 0.0f, z), v2(0.0f, b, z), v0(-0.4f / 1.4f * b, -0.4f / 1.4f * b, z);
+    TriangleHit want;
+    ASSERT_TRUE(intersect_triangle(w, ray.tmax, v0, v1, v2, want)) << "b " << b;
+    ASSERT_GT(want.t, 0.0f) << "b " << b;
+    Tri4 blk;
+    for (int lane = 0; lane < 4; ++lane) {
+      blk.prim[lane] = lane == 0 ? 7u : kInvalidPrim;
+      set_lane(blk, lane, v0, v1, v2);
+    }
+    const Tri4Hit got = intersect_tri4(blk, w, ray.tmax);
+    ASSERT_EQ(got.lane, 0) << "b " << b;
+    EXPECT_EQ(got.t, want.t) << "b " << b;
+    smallest += want.t == z;
+  }
+  EXPECT_GT(smallest, 100) << "the family must reach the distances that round to zero";
+}
+
 /// The closed torus knot: every edge shared by two triangles.
 std::vector<vec3> knot_triangles(int segments, int sides, vec3 offset = vec3(0.0f)) {
   TorusKnotParams p;
