@@ -179,7 +179,9 @@ TEST(Bvh8, AHitWhoseDistanceUnderflowsIsStillInFront) {
     EXPECT_EQ(got.t, want.t) << "b " << b;
     smallest += want.t == z;
   }
-  EXPECT_GT(smallest, 100) << "the family must reach the distances that round to zero";
+  // Most of the family reports the smallest float; the distances that rounded to zero on the way are among them
+  // (the mutation that drops the clamp, TV8, fails this test).
+  EXPECT_GT(smallest, 100) << "the family must reach the smallest distances";
 }
 
 /// The closed torus knot: every edge shared by two triangles.

@@ -50,10 +50,14 @@ Scene scaled(Scene s, float f) {
   return s;
 }
 
+/// The scene scales the parametrized tests run at: at 2^-70 and 2^70 the render frame is scaled
+/// (RenderGeometry::scale), at 1 it is not.
+const auto kScales = testing::Values(1.0f, 0x1p-70f, 0x1p70f);
+
 class RefitAtScale : public testing::TestWithParam<float> {};
 
-// At 2^-70 and 2^70 the render frame is scaled (RenderGeometry::scale): the refit must scale as the build did.
-INSTANTIATE_TEST_SUITE_P(RenderGeometry, RefitAtScale, testing::Values(1.0f, 0x1p-70f, 0x1p70f));
+// The refit must scale as the build did.
+INSTANTIATE_TEST_SUITE_P(RenderGeometry, RefitAtScale, kScales);
 
 TEST_P(RefitAtScale, ARefitOfMovedGeometryEqualsARebuild) {
   Scene before = scaled(pyramid_scene(), GetParam()), after = before;
@@ -120,7 +124,7 @@ TEST(RenderScene, EachPrimitiveReadsItsOwnMaterial) {
 
 class RenderFrameAtScale : public testing::TestWithParam<float> {};
 
-INSTANTIATE_TEST_SUITE_P(RenderGeometry, RenderFrameAtScale, testing::Values(1.0f, 0x1p-70f, 0x1p70f));
+INSTANTIATE_TEST_SUITE_P(RenderGeometry, RenderFrameAtScale, kScales);
 
 TEST_P(RenderFrameAtScale, AWorldRayEndsAtItsWorldLength) {
   // to_render_frame moves a world ray into the render frame (shifted and scaled): its origin and its tmax both, so
