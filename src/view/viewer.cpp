@@ -91,8 +91,7 @@ void close_window(GLFWwindow* window) {
 /// Shows the newest frame; the first frame of an epoch closes its restart-latency measurement, and full frames
 /// tune the preview divisor so a preview takes about 10 ms.
 void fetch_frame(ViewerState& st, GlDisplay& gl, Image& shown, HeatLegend& legend, bool& heat) {
-  bool fresh = st.offload ? st.offload->fetch(*st.session, st.frame) : st.session->fetch(st.frame);
-  if (fresh) st.note_frame();
+  const bool fresh = st.fetch_frame();
   if (fresh || st.display_dirty) {
     heat = make_display_image(st.display_mode, st.frame, st.reference ? &*st.reference : nullptr, shown, legend);
     gl.upload(shown);

@@ -343,6 +343,12 @@ double ViewerState::rel_mse_to_reference(const SessionFrame& f) const {
 
 void ViewerState::note_frame_b() { frame_b_rel_mse = rel_mse_to_reference(frame_b); }
 
+bool ViewerState::fetch_frame() {
+  const bool fresh = offload ? offload->fetch(*session, frame) : session->fetch(frame);
+  if (fresh) note_frame();
+  return fresh;
+}
+
 void ViewerState::note_frame() {
   if (!error_history.empty() && (frame.seconds < error_history.back().first || frame.preview)) error_history.clear();
   if (!frame.preview && frame.seconds > 0 && std::isfinite(frame.est_rel_mse) && frame.est_rel_mse > 0)

@@ -117,6 +117,9 @@ struct ViewerState {
   void note_frame_b();
   /// Takes a newly fetched frame: records its error history (reset with each epoch).
   void note_frame();
+  /// Fetches the newest frame into `frame`, merged with the other ranks' samples under mpirun (`offload`), and
+  /// notes it when it is new (note_frame). Never waits. The viewer's loop and the tests that drive it call this.
+  bool fetch_frame();
   /// True relMSE of the current frame against the reference (NaN without one or when the sizes differ); computed
   /// once per fetched frame by note_frame, not per UI frame.
   double true_rel_mse() const { return frame_rel_mse; }

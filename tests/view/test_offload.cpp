@@ -13,33 +13,14 @@
 #include "render/renderer.h"
 #include "scene/load.h"
 #include "view/offload.h"
+#include "fake_offload.h"
 
 namespace pt {
 namespace {
 
-/// What rank 0 posted and what the "workers" sent; outlives the channel (the root owns and destroys it).
-struct Wire {
-  std::vector<std::vector<uint8_t>> posted, results;
-};
-
-struct FakeChannel final : OffloadChannel {
-  Wire* wire;
-  explicit FakeChannel(Wire* w) : wire(w) {}
-  void post(std::vector<uint8_t> m) override { wire->posted.push_back(std::move(m)); }
-  std::vector<std::vector<uint8_t>> poll_results() override { return std::exchange(wire->results, {}); }
-  void close() override { post({}); }
-  std::vector<std::vector<uint8_t>> poll_posts() override { return {}; }
-  bool send_result(std::vector<uint8_t>) override { return false; }
-  void finish() override {}
-};
-
-/// A worker film of 8x8 pixels: `n` samples of `c` in every pixel.
-Film worker_film(vec3 c, int n) {
-  Film f(8, 8);
-  for (size_t p = 0; p < f.pixel_count(); ++p)
-    for (int i = 0; i < n; ++i) f.add(p, c, uint64_t(i));
-  return f;
-}
+using test::FakeChannel;
+using test::Wire;
+using test::worker_film;
 
 TEST(Offload, AResultWhoseSizesDisagreeIsRefused) {
   // A result's sums and counts must cover its width x height: merging reads them per pixel of rank 0's frame.

@@ -9,15 +9,18 @@
 #include <imgui.h>
 #include <imgui_internal.h>
 
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <map>
 #include <string>
 #include <string_view>
+#include <thread>
 #include <vector>
 
 #include "view/panels.h"
 #include "view/viewer_state.h"
+#include "fake_offload.h"
 #include "temp_dir.h"
 #include "viewer_fixtures.h"
 
@@ -167,7 +170,7 @@ class PanelHarness {
  private:
   static ImGuiWindow* popup_window() { return ImGui::GetCurrentContext()->OpenPopupStack.back().Window; }
   void draw(bool log) {
-    if (fetch && st.session->fetch(st.frame)) st.note_frame();
+    if (fetch) st.fetch_frame();
     ImGui::NewFrame();
     if (log) ImGui::LogToClipboard(0);  // 0: opens no collapsed header
     draw_panels(st, ps, kPanelWidth, kPanelHeight);
@@ -628,6 +631,43 @@ TEST(Panels, TheStatsPanelShowsTheFramesFigures) {
   for (int i = 1; i <= 21; ++i) h.st.restart_latency_ms.push_back(double(i));
   t = h.text();
   EXPECT_TRUE(shows(t, "restart latency p50 11.0 ms  p95 20.0 ms")) << t;
+}
+
+/// Under mpirun the Stats panel lists every rank's samples and rate in the shown epoch, and its spp line counts
+/// all ranks' samples (view/offload.h): here rank 0's session at its stop and two workers' results delivered by a
+/// fake channel, fetched as the viewer's loop fetches (ViewerState::fetch_frame).
+TEST(Panels, TheStatsPanelListsEveryRanksSamples) {
+  test::Wire wire;
+  OffloadRoot root(std::make_unique<test::FakeChannel>(&wire));  // outlives the harness, which points at it
+  root.set_ranks(3);
+  PanelHarness h;
+  h.st.offload = &root;
+  start(h);
+  ASSERT_EQ(wire.posted.size(), 1u);  // the first epoch, posted to the workers
+  h.st.apply(StopEdit{2});
+  for (int i = 0; i < 6000 && !(h.st.frame.spp == 2 && !h.st.frame.preview); ++i) {
+    h.frame();
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  ASSERT_EQ(h.st.frame.spp, 2);
+  const uint64_t epoch = h.st.frame.epoch;
+  const SessionFrame& f = h.st.frame;
+  wire.results.push_back(encode_offload_result(epoch, 1, 5, 0.5, test::worker_film(vec3(1.0f), 5, f.width, f.height)));
+  wire.results.push_back(encode_offload_result(epoch, 2, 3, 1.5, test::worker_film(vec3(1.0f), 3, f.width, f.height)));
+  h.frames(2);
+  const std::string t = h.text();
+  EXPECT_TRUE(shows_all(t, {"spp 10 ", "rank 0: spp 2 ", "rank 1: spp 5   10.0 spp/s", "rank 2: spp 3   2.0 spp/s"}));
+  EXPECT_FALSE(shows(t, "rank 3")) << t;
+  // A restart: once its first frame is shown, the workers' results belong to an old epoch, so they show no samples
+  // until new ones come.
+  h.st.apply(RestartEdit{});
+  EXPECT_EQ(wire.posted.size(), 2u);
+  for (int i = 0; i < 6000 && h.st.frame.epoch == epoch; ++i) {
+    h.frame();
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  ASSERT_NE(h.st.frame.epoch, epoch);
+  EXPECT_TRUE(shows_all(h.text(), {"rank 1: spp 0   0.0 spp/s", "rank 2: spp 0   0.0 spp/s"}));
 }
 
 /// What the Render, Light, Camera and Scene panels show of the state: the figures read from their text.

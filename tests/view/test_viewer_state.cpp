@@ -826,7 +826,7 @@ ScriptRun run_script(ViewerState& st, const std::string& text) {
     st.poll_load();
     run.step(st);
     st.tick_compare();
-    if (st.session->fetch(st.frame)) st.note_frame();
+    st.fetch_frame();
     if (st.session_b && st.session_b->fetch(st.frame_b)) st.note_frame_b();
     std::this_thread::sleep_for(std::chrono::milliseconds(1));
   }
