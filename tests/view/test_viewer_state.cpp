@@ -362,6 +362,11 @@ TEST(DisplayModes, HeatmapsShowTheMapsAndFallBackToTheImage) {
   f.rel_error.set(2, 1, vec3(mid));
   ASSERT_TRUE(make_display_image(DisplayMode::error, f, nullptr, out, legend));
   for (int c = 0; c < 3; ++c) EXPECT_NEAR(out.at(2, 1)[c], middle[c], 2e-3f) << "relative error, channel " << c;
+  // The error of the pixel's total over the channels, not of one channel: here green alone differs, 0.25 of 1.25.
+  ref.set(0, 1, vec3(0.5f, 0.25f, 0.5f));
+  ASSERT_TRUE(make_display_image(DisplayMode::reference_error, f, &ref, out, legend));
+  const vec3 fifth = heat_srgb(float((std::log10(0.2) + 3.0) / 3.0));
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(out.at(0, 1)[c], decode(fifth[c]), 2e-3f) << "green error, channel " << c;
   Image other(2, 2);
   EXPECT_FALSE(make_display_image(DisplayMode::reference_error, f, &other, out, legend)) << "size differs";
 }
