@@ -219,6 +219,25 @@ TEST(LoadObj, ABackslashAtALineEndContinuesTheLine) {
   }
 }
 
+TEST(LoadObj, CommentsAfterATabAndPlusSignsAreRead) {
+  // Exporters put a comment after a tab as often as after a space, and C's strtod (which most readers use) takes a
+  // leading '+': both read as other readers read them, in the OBJ and in its MTL.
+  test::TempDir dir;
+  dir.write("t.mtl", "newmtl lamp\t# the light\nKd +0.25 0.5 +0.75\t# diffuse\nKe +1 2 +3\n");
+  Result<Scene> r = load_obj_scene(dir.write(
+      "t.obj", "mtllib t.mtl\t# library\nv +0 0 0\t# first\nv +1 0 -0\nv 0 +1 0\nusemtl lamp\t# light\nf 1 2 3\t# face\n"));
+  ASSERT_TRUE(r.ok()) << r.error();
+  ASSERT_EQ(r->meshes.size(), 1u);
+  const Mesh& m = r->meshes[0];
+  ASSERT_EQ(m.indices.size(), 1u);
+  expect_vec3(m.positions[m.indices[0].y], vec3(1, 0, 0));
+  expect_vec3(m.positions[m.indices[0].z], vec3(0, 1, 0));
+  EXPECT_EQ(face_material(*r, 0).name, "lamp");
+  expect_vec3(face_material(*r, 0).albedo, vec3(0.25f, 0.5f, 0.75f));
+  expect_vec3(face_material(*r, 0).emission, vec3(1, 2, 3));
+  EXPECT_TRUE(r->warnings.empty()) << r->warnings[0];
+}
+
 TEST(LoadObj, LinesAfterAContinuedLineKeepTheirNumbers) {
   test::TempDir dir;
   const std::string head = "v 0 0 0\nv 1 \\\n0 0\nv 0 1 0\n";  // lines 1-4
