@@ -88,8 +88,9 @@ TEST(Cli, HelpExitsZero) {
 }
 
 TEST(Cli, BadOptionsExitTwoWithOneLine) {
-  TempDir dir;
+  TempDir dir, elsewhere;  // dir must stay empty; elsewhere holds a directory named like an image
   const std::string out = dir / "x.png";
+  std::filesystem::create_directory(elsewhere / "d.png");
   const BadArgs cases[] = {
       {{"--frames", "0", "--out", out}, "--frames"},
       {{"--frames", "-3", "--out", out}, "--frames"},
@@ -111,6 +112,12 @@ TEST(Cli, BadOptionsExitTwoWithOneLine) {
       {{"--frames", "1", "--out", dir / "x.jpg"}, "--out"},
       {{"--frames", "1", "--out", dir / "missing-dir/x.png"}, "--out: directory does not exist: "},
       {{"--frames", "1", "--time-limit", "0", "--out", out}, "--time-limit"},
+      {{"--frames", "1", "--time-limit", "inf", "--out", out}, "--time-limit"},
+      {{"--frames", "1", "--error-csv", dir / "missing-dir/e.csv", "--out", out},
+       "--error-csv: directory does not exist: "},
+      {{"--frames", "1", "--out", elsewhere / "d.png"}, "--out: is a directory: "},
+      {{"--screenshot", dir / "missing-dir/s.png"}, "--screenshot: directory does not exist: "},
+      {{"--quit-after-frames", "0"}, "--quit-after-frames"},
       {{"--frames", "1", "--exposure", "64.5", "--out", out}, "--exposure"},
       {{"--frames", "1", "--exposure", "-65", "--out", out}, "--exposure"},
       {{"--frames", "1", "--reference", dir / "ref.png", "--out", out}, "--reference: must be a .pfm or .exr file"},
@@ -122,6 +129,23 @@ TEST(Cli, BadOptionsExitTwoWithOneLine) {
       {{dir / "scene.txt", "--frames", "1", "--out", out}, "scene.txt"},
   };
   expect_bad_args_fail_cleanly(cases, out, dir);
+}
+
+// Values at the edge of what the options take are taken: a capital X in --size, a noise threshold of exactly 1,
+// and "none", the old name of the clamp tonemap (the same bytes as clamp).
+TEST(Cli, EdgeValuesAreTaken) {
+  TempDir dir;
+  auto r = run_ptview({"--frames", "1", "--size", "16X8", "--out", dir / "x.pfm"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(read_file(dir / "x.pfm").rfind("PF\n16 8\n", 0), 0u);
+  r = run_ptview({"--frames", "1", "--size", "8x8", "--noise-threshold", "1", "--out", dir / "t.pfm"});
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  for (const char* tonemap : {"none", "clamp"}) {
+    r = run_ptview({"--frames", "1", "--size", "8x8", "--exposure", "2", "--tonemap", tonemap, "--out",
+                    dir / (std::string(tonemap) + ".png")});
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+  }
+  EXPECT_EQ(read_file(dir / "none.png"), read_file(dir / "clamp.png"));
 }
 
 TEST(Cli, AnOutputBelowAFileSaysTheFileIsNotADirectory) {

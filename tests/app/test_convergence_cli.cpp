@@ -144,6 +144,7 @@ TEST(ConvergenceCli, BadValuesExitTwoWithOneLine) {
       {{"--frames", "1", "--min-spp", "16", "--out", out}, "--min-spp"},
       {{"--frames", "1", "--noise-threshold", "0.1", "--min-spp", "0", "--out", out}, "--min-spp"},
       {{"--frames", "1", "--noise-threshold", "0.1", "--min-spp", "x", "--out", out}, "--min-spp"},
+      {{"--frames", "1", "--noise-threshold", "0.1", "--min-spp", "16777217", "--out", out}, "--min-spp"},
       {{"--max-spp", "0", "--out", out}, "--max-spp"},
       {{"--max-spp", "-5", "--out", out}, "--max-spp"},
       {{"--max-spp", "99999999999", "--out", out}, "--max-spp"},
