@@ -645,12 +645,15 @@ TEST(Panels, TheStatsPanelListsEveryRanksSamples) {
   start(h);
   ASSERT_EQ(wire.posted.size(), 1u);  // the first epoch, posted to the workers
   h.st.apply(StopEdit{2});
-  for (int i = 0; i < 6000 && !(h.st.frame.spp == 2 && !h.st.frame.preview); ++i) {
+  h.st.apply(RestartEdit{});  // an epoch that stops at 2 spp, whatever the first one had reached
+  ASSERT_EQ(wire.posted.size(), 2u);
+  const uint64_t epoch = h.st.session->epoch();
+  for (int i = 0; i < 6000 && !(h.st.frame.epoch == epoch && h.st.frame.spp == 2 && !h.st.frame.preview); ++i) {
     h.frame();
     std::this_thread::sleep_for(std::chrono::milliseconds(1));
   }
+  ASSERT_EQ(h.st.frame.epoch, epoch);
   ASSERT_EQ(h.st.frame.spp, 2);
-  const uint64_t epoch = h.st.frame.epoch;
   const SessionFrame& f = h.st.frame;
   wire.results.push_back(encode_offload_result(epoch, 1, 5, 0.5, test::worker_film(vec3(1.0f), 5, f.width, f.height)));
   wire.results.push_back(encode_offload_result(epoch, 2, 3, 1.5, test::worker_film(vec3(1.0f), 3, f.width, f.height)));
@@ -661,7 +664,7 @@ TEST(Panels, TheStatsPanelListsEveryRanksSamples) {
   // A restart: once its first frame is shown, the workers' results belong to an old epoch, so they show no samples
   // until new ones come.
   h.st.apply(RestartEdit{});
-  EXPECT_EQ(wire.posted.size(), 2u);
+  EXPECT_EQ(wire.posted.size(), 3u);
   for (int i = 0; i < 6000 && h.st.frame.epoch == epoch; ++i) {
     h.frame();
     std::this_thread::sleep_for(std::chrono::milliseconds(1));
