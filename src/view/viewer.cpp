@@ -112,8 +112,7 @@ void fetch_frame(ViewerState& st, GlDisplay& gl, Image& shown, HeatLegend& legen
 /// B's side of a compare: its newest frame, shown through its own texture.
 void fetch_frame_b(ViewerState& st, GlDisplay& gl, Image& shown, bool& heat, bool dirty) {
   if (!st.compare || !st.session_b) return;
-  bool fresh = st.session_b->fetch(st.frame_b);
-  if (fresh) st.note_frame_b();
+  const bool fresh = st.fetch_frame_b();
   if (fresh || dirty) {
     HeatLegend unused;
     heat = make_display_image(st.display_mode, st.frame_b, st.reference ? &*st.reference : nullptr, shown, unused);

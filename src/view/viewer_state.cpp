@@ -349,6 +349,12 @@ bool ViewerState::fetch_frame() {
   return fresh;
 }
 
+bool ViewerState::fetch_frame_b() {
+  const bool fresh = session_b && session_b->fetch(frame_b);
+  if (fresh) note_frame_b();
+  return fresh;
+}
+
 void ViewerState::note_frame() {
   if (!error_history.empty() && (frame.seconds < error_history.back().first || frame.preview)) error_history.clear();
   if (!frame.preview && frame.seconds > 0 && std::isfinite(frame.est_rel_mse) && frame.est_rel_mse > 0)

@@ -120,6 +120,8 @@ struct ViewerState {
   /// Fetches the newest frame into `frame`, merged with the other ranks' samples under mpirun (`offload`), and
   /// notes it when it is new (note_frame). Never waits. The viewer's loop and the tests that drive it call this.
   bool fetch_frame();
+  /// The same for B's side of a compare (note_frame_b); false without one.
+  bool fetch_frame_b();
   /// True relMSE of the current frame against the reference (NaN without one or when the sizes differ); computed
   /// once per fetched frame by note_frame, not per UI frame.
   double true_rel_mse() const { return frame_rel_mse; }

@@ -88,6 +88,16 @@ class PanelHarness {
   void frames(int n) {
     for (int i = 0; i < n; ++i) frame();
   }
+  /// UI frames, a millisecond apart, until `done()` holds (a generous deadline of about 6 s: a hang, not
+  /// slowness, fails). Returns whether it holds.
+  template <class Done>
+  bool frames_until(Done done) {
+    for (int i = 0; i < 6000 && !done(); ++i) {
+      frame();
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+    return done();
+  }
 
   /// The panels' one window (draw_panels names it "ptview").
   static ImGuiWindow* panel_window() { return ImGui::FindWindowByName("ptview"); }
@@ -648,12 +658,8 @@ TEST(Panels, TheStatsPanelListsEveryRanksSamples) {
   h.st.apply(RestartEdit{});  // an epoch that stops at 2 spp, whatever the first one had reached
   ASSERT_EQ(wire.posted.size(), 2u);
   const uint64_t epoch = h.st.session->epoch();
-  for (int i = 0; i < 6000 && !(h.st.frame.epoch == epoch && h.st.frame.spp == 2 && !h.st.frame.preview); ++i) {
-    h.frame();
-    std::this_thread::sleep_for(std::chrono::milliseconds(1));
-  }
-  ASSERT_EQ(h.st.frame.epoch, epoch);
-  ASSERT_EQ(h.st.frame.spp, 2);
+  ASSERT_TRUE(h.frames_until([&] { return h.st.frame.epoch == epoch && h.st.frame.spp == 2 && !h.st.frame.preview; }))
+      << "epoch " << h.st.frame.epoch << " of " << epoch << ", spp " << h.st.frame.spp;
   const SessionFrame& f = h.st.frame;
   wire.results.push_back(encode_offload_result(epoch, 1, 5, 0.5, test::worker_film(vec3(1.0f), 5, f.width, f.height)));
   wire.results.push_back(encode_offload_result(epoch, 2, 3, 1.5, test::worker_film(vec3(1.0f), 3, f.width, f.height)));
@@ -665,11 +671,7 @@ TEST(Panels, TheStatsPanelListsEveryRanksSamples) {
   // until new ones come.
   h.st.apply(RestartEdit{});
   EXPECT_EQ(wire.posted.size(), 3u);
-  for (int i = 0; i < 6000 && h.st.frame.epoch == epoch; ++i) {
-    h.frame();
-    std::this_thread::sleep_for(std::chrono::milliseconds(1));
-  }
-  ASSERT_NE(h.st.frame.epoch, epoch);
+  ASSERT_TRUE(h.frames_until([&] { return h.st.frame.epoch != epoch; }));
   EXPECT_TRUE(shows_all(h.text(), {"rank 1: spp 0   0.0 spp/s", "rank 2: spp 0   0.0 spp/s"}));
 }
 

@@ -832,7 +832,7 @@ ScriptRun run_script(ViewerState& st, const std::string& text) {
     run.step(st);
     st.tick_compare();
     st.fetch_frame();
-    if (st.session_b && st.session_b->fetch(st.frame_b)) st.note_frame_b();
+    st.fetch_frame_b();
     std::this_thread::sleep_for(std::chrono::milliseconds(1));
   }
   EXPECT_TRUE(run.done()) << "timed out at command " << run.next;
