@@ -939,12 +939,17 @@ TEST(Script, WaitsCoverBothSidesOfACompareAndALoadInFlight) {
     SCOPED_TRACE(script);
     ViewerState st;
     st.init(builtin("cornell"), small_params(), {}, 1);
+    st.reference = Image(32, 24);  // each side's fetched frame is measured against it (ViewerState::fetch_frame_b)
+    for (float& v : st.reference->rgb) v = 0.5f;
     EXPECT_EQ(run_script(st, script).failures, 0);
     ASSERT_TRUE(st.session_b);
     EXPECT_EQ(st.frame_b.epoch, st.session_b->epoch());
     EXPECT_GE(st.frame_b.frames, 2);
+    EXPECT_TRUE(std::isfinite(st.frame_b_rel_mse));
+    EXPECT_EQ(st.frame_b_rel_mse, st.rel_mse_to_reference(st.frame_b));
+    EXPECT_EQ(st.frame_rel_mse, st.rel_mse_to_reference(st.frame));
     EXPECT_EQ(run_script(st, "wait-ms 100\n").failures, 0);
-    st.session_b->fetch(st.frame_b);
+    st.fetch_frame_b();
     EXPECT_EQ(st.frame_b.frames, 2);
     EXPECT_EQ(st.frame_b.spp, 2);
   }
