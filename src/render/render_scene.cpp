@@ -1,39 +1,11 @@
 #include "render/render_scene.h"
 
 #include "render/auto_light_sampling.h"
+#include "render/emissive_pairs.h"
 
 namespace pt {
 
 namespace {
-
-/// Two triangles that share an edge, face the same way and together form a parallelogram (the way OBJ and glTF
-/// quads arrive: a quad split along a diagonal): its corner and edges, oriented like the triangles, so the pair
-/// becomes one parallelogram light (solid-angle sampled when it is a rectangle) instead of two triangle
-/// lights. Exact vertex sharing and a tight tolerance on the parallelogram condition (the diagonals' midpoints
-/// coincide), so the light is the triangles' surface and light_pdf matches hits on either triangle.
-bool parallelogram_of(const vec3* a, const vec3* b, vec3& corner, vec3& e1, vec3& e2) {
-  int shared_a[2], shared_b[2], n = 0;
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j)
-      if (a[i] == b[j] && n < 2) {
-        shared_a[n] = i;
-        shared_b[n] = j;
-        ++n;
-      }
-  if (n != 2) return false;
-  const vec3 ua = a[3 - shared_a[0] - shared_a[1]], ub = b[3 - shared_b[0] - shared_b[1]];
-  const vec3 s0 = a[shared_a[0]], s1 = a[shared_a[1]];
-  const vec3 na = glm::cross(a[1] - a[0], a[2] - a[0]), nb = glm::cross(b[1] - b[0], b[2] - b[0]);
-  if (!(glm::dot(na, nb) > 0.0f)) return false;
-  const float scale =
-      max_component(glm::abs(ua - s0)) + max_component(glm::abs(ub - s0)) + max_component(glm::abs(s1 - s0));
-  if (!(max_component(glm::abs((ua + ub) - (s0 + s1))) <= 1e-6f * scale)) return false;
-  corner = s0;
-  e1 = ua - s0;
-  e2 = ub - s0;
-  if (glm::dot(glm::cross(e1, e2), na) < 0.0f) std::swap(e1, e2);
-  return true;
-}
 
 /// The unit normal of triangle v (CCW front) and whether its corners' normals n give it shading normals.
 TriangleShading triangle_shading(const vec3* v, const vec3* n) {
@@ -143,6 +115,12 @@ void rebuild_lights(RenderScene& rs) {
     return int32_t(rs.lights.lights.size() - 1);
   };
   const uint32_t tri_count = g.triangle_count();
+  // Mesh triangles pair into parallelogram lights (render/emissive_pairs.h); a pair's light takes the place of its
+  // first triangle in the light list.
+  std::vector<uint8_t> emissive(g.quad_first_triangle);
+  for (uint32_t t = 0; t < g.quad_first_triangle; ++t) emissive[t] = rs.materials[g.tri_material[t]].emissive();
+  const std::vector<int32_t> partner = pair_parallelograms(
+      std::span<const vec3>(g.tri_vertices).first(3 * size_t(g.quad_first_triangle)), g.tri_material, emissive);
   for (uint32_t t = 0; t < tri_count; ++t) {
     const Material& m = rs.materials[g.tri_material[t]];
     if (!m.emissive()) continue;
@@ -154,15 +132,14 @@ void rebuild_lights(RenderScene& rs) {
       rs.tri_light[t] = rs.tri_light[t + 1] = id;
       continue;
     }
-    if (t + 1 < g.quad_first_triangle && g.tri_material[t + 1] == g.tri_material[t]) {
+    const int32_t u = partner[t];
+    if (u < 0) {
+      rs.tri_light[t] = add(make_triangle_light(v[0], v[1], v[2], m.emission));
+    } else if (uint32_t(u) > t) {
       vec3 corner, e1, e2;
-      if (parallelogram_of(v, v + 3, corner, e1, e2)) {
-        rs.tri_light[t] = rs.tri_light[t + 1] = add(make_rect_light(corner, e1, e2, m.emission));
-        ++t;
-        continue;
-      }
+      parallelogram_of(v, &g.tri_vertices[3 * size_t(u)], corner, e1, e2);  // true: the pair was made by it
+      rs.tri_light[t] = rs.tri_light[u] = add(make_rect_light(corner, e1, e2, m.emission));
     }
-    rs.tri_light[t] = add(make_triangle_light(v[0], v[1], v[2], m.emission));
   }
   for (size_t s = 0; s < g.spheres.size(); ++s) {
     const Material& m = rs.materials[g.sphere_material[s]];

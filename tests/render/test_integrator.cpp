@@ -220,6 +220,17 @@ LightOverPlane make_light_over_plane(const std::string& kind) {
     vec3 c(-0.3f, 1.0f, -0.2f), e1(0.8f, 0, 0), e2 = kind == "rect" ? vec3(0, 0, 0.5f) : vec3(0.5f, 0, 0.5f);
     s.quads.push_back({c, e1, e2, emitter});
     out.light_polygon = {dvec3(c), dvec3(c + e1), dvec3(c + e1 + e2), dvec3(c + e2)};
+  } else if (kind == "quad-apart") {
+    // A quad's two triangles with a third, non-emissive one between them in the mesh (below the floor, out of
+    // sight): they still merge into one rectangle light (render/emissive_pairs.h), whose pdf hits on either
+    // triangle must get.
+    Mesh mesh;
+    vec3 c(-0.3f, 1.0f, -0.2f), e1(0.8f, 0, 0), e2(0, 0, 0.5f);
+    mesh.positions = {c, c + e1, c + e1 + e2, c + e2, vec3(40, -1, 40), vec3(41, -1, 40), vec3(40, -1, 41)};
+    mesh.indices = {uvec3(2, 3, 0), uvec3(4, 5, 6), uvec3(0, 1, 2)};  // CCW seen from below: faces down
+    mesh.materials = {emitter, 0, emitter};
+    out.light_polygon = {dvec3(c), dvec3(c + e1), dvec3(c + e1 + e2), dvec3(c + e2)};
+    s.meshes.push_back(mesh);
   } else {  // an emissive mesh triangle
     Mesh mesh;
     mesh.positions = {vec3(-0.4f, 1.0f, -0.3f), vec3(0.5f, 1.0f, -0.2f), vec3(0.0f, 1.0f, 0.6f)};
@@ -240,6 +251,9 @@ TEST_P(PolygonIrradiance, DirectLightingMatchesLambertsFormula) {
     ASSERT_GE(setup.rs.lights.lights.size(), 1u);  // two triangles, or one merged quad
   } else {
     ASSERT_EQ(setup.rs.lights.lights.size(), 1u);
+    if (GetParam() == "quad-apart") {
+      ASSERT_TRUE(setup.rs.lights.lights[0].rectangular);
+    }
   }
   const vec3 points[] = {vec3(0.05f, 0, 0.02f), vec3(0.9f, 0, -0.7f), vec3(-2.0f, 0, 1.5f)};
   for (vec3 x : points) {
@@ -270,7 +284,7 @@ TEST_P(PolygonIrradiance, DirectLightingMatchesLambertsFormula) {
   }
 }
 INSTANTIATE_TEST_SUITE_P(Lights, PolygonIrradiance,
-                         ::testing::Values("rect", "parallelogram", "triangle", "gltf-quad"));
+                         ::testing::Values("rect", "parallelogram", "triangle", "quad-apart", "gltf-quad"));
 
 /// A diffuse floor at y = 0 (albedo kFloorAlbedo, material 0) under a 2 x 2 light of radiance kSquareRadiance at
 /// y = 1, facing down and centred over the origin (material 1, its corners kSquareLight). Seen from the origin its
