@@ -10,6 +10,10 @@
 namespace pt {
 
 bool parallelogram_of(const vec3* a, const vec3* b, vec3& corner, vec3& e1, vec3& e2) {
+  // A triangle with a repeated corner has no area to share, and would let one corner of the other match twice
+  // below (the unshared corner's index 3 - i - j then reads past the triangle).
+  auto repeats = [](const vec3* v) { return v[0] == v[1] || v[1] == v[2] || v[2] == v[0]; };
+  if (repeats(a) || repeats(b)) return false;
   int shared_a[2], shared_b[2], n = 0;
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j)

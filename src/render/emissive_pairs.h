@@ -10,8 +10,8 @@
 
 namespace pt {
 
-/// Whether triangles a and b (three corners each) share an edge exactly (two equal corners), face the same way and
-/// together form a parallelogram (their unshared corners' midpoint is the shared edge's, to a relative 1e-6): then
+/// Whether triangles a and b (three distinct corners each) share an edge exactly (two equal corners), face the same way
+/// and together form a parallelogram (their unshared corners' midpoint is the shared edge's, to a relative 1e-6): then
 /// corner, e1 and e2 describe it, oriented like the triangles, so the light is the triangles' surface and light_pdf
 /// matches hits on either one.
 bool parallelogram_of(const vec3* a, const vec3* b, vec3& corner, vec3& e1, vec3& e2);
