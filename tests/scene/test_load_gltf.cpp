@@ -1,12 +1,12 @@
 // glTF 2.0 loading: geometry (indices, interleaving, strips, sparse), node transforms, cameras, the material
 // mapping, .glb, glTF inside scene JSON, and every kind of bad input as one "FILE: reason" line.
 #include <gtest/gtest.h>
+#include <stb_image_write.h>
 
 #include <algorithm>
 #include <filesystem>
 #include <functional>
 #include <glm/gtc/matrix_transform.hpp>
-#include <stb_image_write.h>
 
 #include "gltf_fixture.h"
 #include "scene/load.h"
@@ -217,7 +217,10 @@ TEST(Gltf, NodeHierarchyWithTrsMatricesAndInstancing) {
   // it after the rotation instead of before would move the vertices. Child: a matrix translating by (0,5,0).
   double h = std::sqrt(0.5);
   int child = b.node({{"mesh", mesh}, {"matrix", {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 5, 0, 1}}}, false);
-  b.node({{"mesh", mesh}, {"translation", {10, 0, 0}}, {"rotation", {0, 0, h, h}}, {"scale", {2, 3, 4}},
+  b.node({{"mesh", mesh},
+          {"translation", {10, 0, 0}},
+          {"rotation", {0, 0, h, h}},
+          {"scale", {2, 3, 4}},
           {"children", {child}}});
   b.node({{"mesh", mesh}});  // the same mesh a third time, untransformed
   test::write_file(dir / "h.gltf", b.embedded());
@@ -251,9 +254,10 @@ TEST(Gltf, FirstPerspectiveCameraWithItsNodeTransform) {
   TempDir dir;
   GltfBuilder b;
   b.node({{"mesh", b.mesh(b.positions(kTriangle))}});
-  b.j["cameras"] = {{{"type", "orthographic"}, {"orthographic", {{"xmag", 1}, {"ymag", 1}, {"znear", 0.1}, {"zfar", 10}}}},
-                    {{"type", "perspective"}, {"perspective", {{"yfov", 0.5}, {"znear", 0.1}}}},
-                    {{"type", "perspective"}, {"perspective", {{"yfov", 1.0}, {"znear", 0.1}}}}};
+  b.j["cameras"] = {
+      {{"type", "orthographic"}, {"orthographic", {{"xmag", 1}, {"ymag", 1}, {"znear", 0.1}, {"zfar", 10}}}},
+      {{"type", "perspective"}, {"perspective", {{"yfov", 0.5}, {"znear", 0.1}}}},
+      {{"type", "perspective"}, {"perspective", {{"yfov", 1.0}, {"znear", 0.1}}}}};
   b.node({{"camera", 0}});
   double h = std::sqrt(0.5);  // the second camera turned 90 degrees about y: it looks down -x
   b.node({{"camera", 1}, {"translation", {7, 0, 0}}, {"rotation", {0, h, 0, h}}});
@@ -272,6 +276,79 @@ TEST(Gltf, FirstPerspectiveCameraWithItsNodeTransform) {
   ASSERT_TRUE(select_camera(s, 1).empty());
   EXPECT_EQ(s.camera->eye, s.cameras[1].eye);
   EXPECT_NE(select_camera(s, 2).find("out of range"), std::string::npos);
+}
+
+TEST(Gltf, ACameraRollsWithItsNodeAndAimsAtTheScenesDepth) {
+  // A camera at (0, 0, 10) rolled 90 degrees about its view axis (z): its up is the node's +y turned, -x. Its
+  // target lies on its view axis at the depth of the scene's centre (the viewer orbits about it): the triangles
+  // span z from -2 to 0, so 11 ahead of the eye.
+  TempDir dir;
+  GltfBuilder b;
+  b.node({{"mesh", b.mesh(b.positions({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, -2}, {1, 0, -2}, {0, 1, -2}}))}});
+  b.j["cameras"] = {{{"type", "perspective"}, {"perspective", {{"yfov", 0.7}, {"znear", 0.1}}}}};
+  const double h = std::sqrt(0.5);
+  b.node({{"camera", 0}, {"translation", {0, 0, 10}}, {"rotation", {0, 0, h, h}}});
+  test::write_file(dir / "roll.gltf", b.embedded());
+  Scene s = load_ok(dir / "roll.gltf");
+  ASSERT_TRUE(s.camera.has_value());
+  EXPECT_LT(glm::distance(glm::normalize(s.camera->up), vec3(-1, 0, 0)), 1e-5f);
+  EXPECT_LT(glm::distance(s.camera->eye, vec3(0, 0, 10)), 1e-5f);
+  const vec3 centre = mesh_bounds(s).center();
+  EXPECT_LT(glm::distance(s.camera->target, vec3(0, 0, centre.z)), 1e-4f);
+}
+
+TEST(Gltf, TheDefaultSceneAndAFileWithoutScenes) {
+  TempDir dir;
+  // Two scenes, "scene": 1: only scene 1's triangle (moved to x = 5) loads, with a warning naming it.
+  GltfBuilder b;
+  const int mesh = b.mesh(b.positions(kTriangle));
+  b.node({{"mesh", mesh}});
+  const int other = b.node({{"mesh", mesh}, {"translation", {5, 0, 0}}}, false);
+  b.j["scenes"].push_back({{"nodes", {other}}});
+  b.j["scene"] = 1;
+  test::write_file(dir / "scenes.gltf", b.embedded());
+  Scene s = load_ok(dir / "scenes.gltf");
+  ASSERT_EQ(s.meshes[0].indices.size(), 1u);
+  EXPECT_EQ(mesh_bounds(s).lo, vec3(5, 0, 0));
+  EXPECT_TRUE(has_warning(s, "2 scenes: only scene 1 is loaded"));
+  // No scenes at all: every node that is nobody's child is a root, and a child is placed once, under its parent.
+  GltfBuilder n;
+  const int child = n.node({{"mesh", n.mesh(n.positions(kTriangle))}, {"translation", {0, 3, 0}}}, false);
+  n.node({{"children", {child}}, {"translation", {2, 0, 0}}}, false);
+  n.j.erase("scenes");
+  n.j.erase("scene");
+  test::write_file(dir / "sceneless.gltf", n.embedded());
+  Scene t = load_ok(dir / "sceneless.gltf");
+  ASSERT_EQ(t.meshes[0].indices.size(), 1u);
+  EXPECT_EQ(mesh_bounds(t).lo, vec3(2, 3, 0));
+}
+
+TEST(Gltf, NormalsFollowTheInverseTransposeOfAStretchingNode) {
+  // A normal (1, 1, 0) / sqrt 2 under scale (2, 1, 1) stays perpendicular to the stretched surface: (1, 2, 0) /
+  // sqrt 5, not the stretched vector (2, 1, 0) / sqrt 5.
+  TempDir dir;
+  GltfBuilder b;
+  const std::vector<vec3> p = {{0, 0, 0}, {1, -1, 0}, {0, 0, 1}};
+  const vec3 n0 = glm::normalize(vec3(1, 1, 0));
+  const std::vector<vec3> nrm = {n0, n0, n0};
+  b.node({{"mesh", b.mesh(b.positions(p), -1, -1, b.positions(nrm))}, {"scale", {2, 1, 1}}});
+  test::write_file(dir / "n.gltf", b.embedded());
+  Scene s = load_ok(dir / "n.gltf");
+  const Mesh& m = s.meshes[0];
+  ASSERT_EQ(m.normal_indices.size(), 1u);
+  for (int k = 0; k < 3; ++k)
+    EXPECT_LT(glm::distance(m.normals[m.normal_indices[0][k]], glm::normalize(vec3(1, 2, 0))), 1e-6f) << k;
+}
+
+TEST(Gltf, DegenerateTrianglesAreDroppedWithAWarning) {
+  TempDir dir;
+  GltfBuilder b;
+  const std::vector<vec3> p = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {2, 2, 2}, {3, 3, 3}, {4, 4, 4}};  // 2nd: a line
+  b.node({{"mesh", b.mesh(b.positions(p))}});
+  test::write_file(dir / "d.gltf", b.embedded());
+  Scene s = load_ok(dir / "d.gltf");
+  ASSERT_EQ(s.meshes[0].indices.size(), 1u);
+  EXPECT_TRUE(has_warning(s, "1 degenerate (zero-area) triangle dropped"));
 }
 
 /// One triangle per material of `mats`, each on its own node, written to `path` and loaded back.
@@ -302,11 +379,21 @@ TEST(Gltf, MaterialMapping) {
       {{"name", "chrome"}, {"pbrMetallicRoughness", pbr({0.9, 0.8, 0.7, 1}, 1, 0)}},
       {{"name", "brushed"}, {"pbrMetallicRoughness", pbr({0.9, 0.8, 0.7, 1}, 1, 0.2)}},
       {{"name", "rough-metal"}, {"pbrMetallicRoughness", pbr({0.9, 0.8, 0.7, 1}, 1, 0.6)}},
-      {{"name", "water"}, {"pbrMetallicRoughness", pbr({1, 1, 1, 1}, 0, 0)},
-       {"extensions", {{"KHR_materials_transmission", {{"transmissionFactor", 1}}}, {"KHR_materials_ior", {{"ior", 1.33}}}}}},
+      {{"name", "water"},
+       {"pbrMetallicRoughness", pbr({1, 1, 1, 1}, 0, 0)},
+       {"extensions",
+        {{"KHR_materials_transmission", {{"transmissionFactor", 1}}}, {"KHR_materials_ior", {{"ior", 1.33}}}}}},
       {{"name", "glass"}, {"extensions", {{"KHR_materials_transmission", {{"transmissionFactor", 0.9}}}}}},
-      {{"name", "lamp"}, {"emissiveFactor", {1, 0.5, 0.25}}, {"extensions", {{"KHR_materials_emissive_strength", {{"emissiveStrength", 4}}}}}},
+      {{"name", "lamp"},
+       {"emissiveFactor", {1, 0.5, 0.25}},
+       {"extensions", {{"KHR_materials_emissive_strength", {{"emissiveStrength", 4}}}}}},
       {{"name", "leaf"}, {"alphaMode", "BLEND"}, {"pbrMetallicRoughness", pbr({0.1, 0.6, 0.1, 0.5}, 0, 1)}},
+      // The thresholds themselves (README: ">= 0.5", "<= 0.3"), and an ior of 0 replaced.
+      {{"name", "half-metal"}, {"pbrMetallicRoughness", pbr({0.9, 0.8, 0.7, 1}, 0.5, 0.3)}},
+      {{"name", "half-clear"}, {"extensions", {{"KHR_materials_transmission", {{"transmissionFactor", 0.5}}}}}},
+      {{"name", "no-ior"},
+       {"extensions",
+        {{"KHR_materials_transmission", {{"transmissionFactor", 1}}}, {"KHR_materials_ior", {{"ior", 0}}}}}},
   };
   Scene s = load_material_triangles(b, mats, dir / "m.gltf");
   auto find = [&](const std::string& name) -> const Material& { return material_named(s, name); };
@@ -323,6 +410,12 @@ TEST(Gltf, MaterialMapping) {
   EXPECT_EQ(find("lamp").emission, vec3(4.0f, 2.0f, 1.0f));
   EXPECT_TRUE(s.has_emitter());
   EXPECT_EQ(find("leaf").type, MaterialType::diffuse);
+  EXPECT_EQ(find("half-metal").type, MaterialType::specular);
+  EXPECT_TRUE(has_warning(s, "material 8 'half-metal' approximated: roughness 0.3 as a mirror"));
+  EXPECT_EQ(find("half-clear").type, MaterialType::glass);
+  EXPECT_EQ(find("no-ior").type, MaterialType::glass);
+  EXPECT_FLOAT_EQ(find("no-ior").ior, 1.5f);
+  EXPECT_TRUE(has_warning(s, "material 10 'no-ior' approximated: ior 0 replaced by 1.5"));
   // One warning per approximated material, naming it; none for the exact ones.
   EXPECT_TRUE(has_warning(s, "material 2 'brushed' approximated: roughness"));
   EXPECT_TRUE(has_warning(s, "material 3 'rough-metal' approximated: metal with roughness 0.6 as diffuse"));
@@ -442,7 +535,8 @@ TEST(Gltf, SceneJsonMeshShapeTransformsOverridesAndPicksCamera) {
   test::write_file(dir / "both.json", R"({"camera": {"eye": [0, 0, 3], "target": [0, 0, 0]}, "shapes": [
     {"type": "mesh", "file": "t.glb", "camera": 0}]})");
   EXPECT_NE(load_error(dir / "both.json").find("shapes[0].camera: the scene already has a \"camera\""),
-            std::string::npos) << load_error(dir / "both.json");
+            std::string::npos)
+      << load_error(dir / "both.json");
 }
 
 // --- bad input ---------------------------------------------------------------------------------------------------
@@ -489,29 +583,59 @@ TEST(GltfBad, RangesAndIndices) {
       {"view_range", [](GltfBuilder& b) { b.j["accessors"][0]["bufferView"] = 5; }, "bufferView 5 out of range"},
       {"acc_overlap", [](GltfBuilder& b) { b.j["accessors"][0]["byteOffset"] = 4; }, "overlap the end of bufferView 0"},
       {"view_overlap", [](GltfBuilder& b) { b.j["bufferViews"][0]["byteOffset"] = 4; }, "overlap the end of buffer 0"},
-      {"index", [](GltfBuilder& b) {
+      {"index",
+       [](GltfBuilder& b) {
          std::vector<uint16_t> idx = {0, 1, 3};
          b.j["meshes"][0]["primitives"][0]["indices"] = b.indices(idx);
-       }, "index 3 past the vertex count 3"},
-      {"cycle", [](GltfBuilder& b) {
+       },
+       "index 3 past the vertex count 3"},
+      {"cycle",
+       [](GltfBuilder& b) {
          b.j["nodes"].push_back({{"children", {2}}});
          b.j["nodes"].push_back({{"children", {1}}});
          b.j["scenes"][0]["nodes"].push_back(1);
-       }, "cyclic node graph"},
-      {"two_parents", [](GltfBuilder& b) { b.node({{"children", {0}}}); }, "more than one parent"},
+       },
+       "cyclic node graph"},
+      {"two_parents",
+       [](GltfBuilder& b) {
+         b.node({{"children", {0}}});
+       },
+       "more than one parent"},
       {"required", [](GltfBuilder& b) { b.j["extensionsRequired"] = {"KHR_draco_mesh_compression"}; },
        "unsupported required extension 'KHR_draco_mesh_compression'"},
       {"stride", [](GltfBuilder& b) { b.j["bufferViews"][0]["byteStride"] = 4; },
        "byteStride 4 is smaller than an element"},
-      {"signed_indices", [](GltfBuilder& b) {
+      {"signed_indices",
+       [](GltfBuilder& b) {
          std::vector<uint16_t> idx = {0, 1, 2};
          const int acc = b.indices(idx);
          b.j["accessors"][size_t(acc)]["componentType"] = 5122;  // signed short
          b.j["meshes"][0]["primitives"][0]["indices"] = acc;
-       }, "must be SCALAR of unsigned byte, short or int"},
-      {"sparse_index", [](GltfBuilder& b) { sparse_positions(b, 0, {0, 3}); }, "sparse index 3 past the count 3"},
-      {"sparse_count", [](GltfBuilder& b) { sparse_positions(b, 0, {0, 1, 2, 0}); },
+       },
+       "must be SCALAR of unsigned byte, short or int"},
+      {"sparse_index",
+       [](GltfBuilder& b) {
+         sparse_positions(b, 0, {0, 3});
+       },
+       "sparse index 3 past the count 3"},
+      {"sparse_count",
+       [](GltfBuilder& b) {
+         sparse_positions(b, 0, {0, 1, 2, 0});
+       },
        "sparse count 4 exceeds the accessor's count"},
+      {"normal_count",
+       [](GltfBuilder& b) {
+         b.j["meshes"][0]["primitives"][0]["attributes"]["NORMAL"] = b.positions({{0, 0, 1}, {0, 0, 1}});
+       },
+       "NORMAL and POSITION counts differ"},
+      {"material_range", [](GltfBuilder& b) { b.j["meshes"][0]["primitives"][0]["material"] = 3; },
+       "material 3 out of range"},
+      {"texture_range",
+       [](GltfBuilder& b) {
+         b.j["meshes"][0]["primitives"][0]["material"] =
+             b.material({{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 5}}}}}});
+       },
+       "base colour texture 5 out of range"},
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(c.name);
