@@ -82,6 +82,11 @@ struct Reader {
 
 enum class Geometry : uint8_t { same, refit, rebuild };
 
+/// The first byte of every post but the end (which is empty).
+enum class PostKind : uint8_t { epoch = 1, hold = 2 };
+
+PostKind kind_of(const std::vector<uint8_t>& post) { return PostKind(post.empty() ? 0 : post[0]); }
+
 /// A material's and a mesh's fields in message order, for Writer (const) and Reader alike: one list, so a field
 /// cannot be written and not read.
 template <class Archive, class M>
@@ -118,6 +123,7 @@ void result_fields(Archive& a, R& r) {
 
 std::vector<uint8_t> encode_epoch(uint64_t epoch, const RenderParams& params, const Scene& scene, Geometry geometry) {
   Writer w;
+  w.pod(PostKind::epoch);
   w.pod(epoch);
   w.pod(params);
   w.pod(scene.camera.value_or(Camera{}));
@@ -139,6 +145,9 @@ std::vector<uint8_t> encode_epoch(uint64_t epoch, const RenderParams& params, co
 std::optional<Geometry> decode_epoch(const std::vector<uint8_t>& bytes, uint64_t& epoch, RenderParams& params,
                                      Scene& scene) {
   Reader r{bytes};
+  PostKind kind{};
+  r.pod(kind);
+  if (kind != PostKind::epoch) return std::nullopt;
   r.pod(epoch);
   r.pod(params);
   Camera cam;
@@ -170,9 +179,32 @@ std::optional<Geometry> decode_epoch(const std::vector<uint8_t>& bytes, uint64_t
 
 }  // namespace
 
+std::vector<uint8_t> encode_offload_hold(bool held) {
+  Writer w;
+  w.pod(PostKind::hold);
+  w.pod(uint8_t(held));
+  return std::move(w.bytes);
+}
+
+bool decode_offload_hold(const std::vector<uint8_t>& bytes, bool& held) {
+  Reader r{bytes};
+  PostKind kind{};
+  uint8_t value = 0;
+  r.pod(kind);
+  r.pod(value);
+  held = value != 0;
+  return r.ok && kind == PostKind::hold && r.at == bytes.size() && value <= 1;
+}
+
 std::vector<uint8_t> encode_offload_result(uint64_t epoch, int rank, int spp, double seconds, const Film& film) {
-  const OffloadResult res{epoch, int32_t(rank), int32_t(film.width), int32_t(film.height), int32_t(spp), seconds,
-                          std::vector<float>(film.sum.begin(), film.sum.end()), film.count};
+  const OffloadResult res{epoch,
+                          int32_t(rank),
+                          int32_t(film.width),
+                          int32_t(film.height),
+                          int32_t(spp),
+                          seconds,
+                          std::vector<float>(film.sum.begin(), film.sum.end()),
+                          film.count};
   Writer w;
   result_fields(w, res);
   return std::move(w.bytes);
@@ -189,16 +221,21 @@ OffloadRoot::~OffloadRoot() {
   if (channel_) channel_->close();
 }
 
-void OffloadRoot::post_epoch(uint64_t epoch, const RenderParams& params, const Scene& scene, int builds,
-                             int refits) {
+void OffloadRoot::post_epoch(uint64_t epoch, const RenderParams& params, const Scene& scene, int builds, int refits) {
   if (!channel_) return;
-  Geometry g = builds != posted_builds_ ? Geometry::rebuild
+  Geometry g = builds != posted_builds_   ? Geometry::rebuild
                : refits != posted_refits_ ? Geometry::refit
                                           : Geometry::same;
   posted_builds_ = builds;
   posted_refits_ = refits;
   posted_epoch_ = epoch;
   channel_->post(encode_epoch(epoch, params, scene, g));
+}
+
+void OffloadRoot::set_hold(bool held) {
+  if (!channel_ || held == held_) return;
+  held_ = held;
+  channel_->post(encode_offload_hold(held));
 }
 
 bool OffloadRoot::poll() {
@@ -271,6 +308,8 @@ int run_offload_worker(OffloadChannel& channel, int rank, int threads) {
   Film film;
   std::vector<uint32_t> first;  // zeros: every pixel's range starts at the rank's base
   RenderCounters counters;
+  bool held = false;                // rank 0's user paused: no new pass
+  bool unsent = false;              // the film holds passes rank 0 has not been sent
   int frames = 0, pass_frames = 0;  // frames rendered; frames of the pass in flight
   double seconds = 0.0;
   std::atomic<bool> cancel{false};
@@ -279,7 +318,10 @@ int run_offload_worker(OffloadChannel& channel, int rank, int threads) {
   const uint32_t base = uint32_t(rank) << kRankSampleShift;
   for (;;) {
     std::vector<std::vector<uint8_t>> posts = channel.poll_posts();
-    if (!posts.empty() && job.valid()) {  // the frame in flight reads the state the posts change: stop it first
+    // The frame in flight reads the state an epoch (or the end) changes: stop it first. A hold lets it finish.
+    const bool restart = std::any_of(posts.begin(), posts.end(),
+                                     [](const std::vector<uint8_t>& m) { return kind_of(m) != PostKind::hold; });
+    if (restart && job.valid()) {
       cancel = true;
       job.wait();  // the next tile at most
       job = {};
@@ -292,6 +334,10 @@ int run_offload_worker(OffloadChannel& channel, int rank, int threads) {
         stop = true;
         break;
       }
+      if (bool h = false; decode_offload_hold(msg, h)) {
+        held = h;
+        continue;
+      }
       std::optional<Geometry> g = decode_epoch(msg, epoch, params, scene);
       if (!g) continue;
       fresh = true;
@@ -299,26 +345,32 @@ int run_offload_worker(OffloadChannel& channel, int rank, int threads) {
     }
     if (stop) break;
     if (fresh) {
-      if (change == Geometry::rebuild || !geo) geo = make_render_geometry(scene);
-      else if (change == Geometry::refit) geo = refit_render_geometry(*geo, scene);
+      if (change == Geometry::rebuild || !geo)
+        geo = make_render_geometry(scene);
+      else if (change == Geometry::refit)
+        geo = refit_render_geometry(*geo, scene);
       rs = std::make_shared<RenderScene>(make_render_scene(scene, geo));
       film.reset(params.width, params.height);
       first.assign(film.pixel_count(), 0);
       counters = {};
       frames = 0;
       seconds = 0.0;
+      unsent = false;
       epoch_start = Clock::now();
     }
-    if (job.valid() && job.wait_for(std::chrono::seconds(0)) == std::future_status::ready) {
-      bool done = job.get();
-      if (done) {
-        frames += pass_frames;
-        seconds += std::chrono::duration<double>(Clock::now() - job_start).count();
-        if (frames == 1 ||
-            std::chrono::duration<double>(Clock::now() - last_send).count() >= send_interval_seconds(film)) {
-          if (channel.send_result(encode_offload_result(epoch, rank, frames * params.spp_per_frame, seconds, film)))
-            last_send = Clock::now();
-        }
+    if (job.valid() && job.wait_for(std::chrono::seconds(0)) == std::future_status::ready && job.get()) {
+      frames += pass_frames;
+      seconds += std::chrono::duration<double>(Clock::now() - job_start).count();
+      unsent = true;
+    }
+    // Between passes (the film is not being written): the first pass at once, then at most every send interval;
+    // held, until the last pass has gone (a send refused while the previous one is in flight is retried here).
+    if (unsent && !job.valid() &&
+        (frames == 1 || held ||
+         std::chrono::duration<double>(Clock::now() - last_send).count() >= send_interval_seconds(film))) {
+      if (channel.send_result(encode_offload_result(epoch, rank, frames * params.spp_per_frame, seconds, film))) {
+        last_send = Clock::now();
+        unsent = false;
       }
     }
     const int64_t next = int64_t(frames) * params.spp_per_frame;
@@ -327,9 +379,9 @@ int run_offload_worker(OffloadChannel& channel, int rank, int threads) {
     // pixel's samples of the pass are taken one after the other, the film is the same as frame by frame. The pass
     // stays inside the rank's range of sample indices.
     const int64_t room = ((int64_t(1) << kRankSampleShift) - 1 - next) / params.spp_per_frame;
-    if (rs && settled && !job.valid() && room > 0) {
-      pass_frames = int(std::min<int64_t>(
-          frames_for_pass_time(frames > 0 ? seconds / frames : 0.0, kInteractivePassSeconds), room));
+    if (rs && settled && !held && !job.valid() && room > 0) {
+      pass_frames = int(
+          std::min<int64_t>(frames_for_pass_time(frames > 0 ? seconds / frames : 0.0, kInteractivePassSeconds), room));
       job_start = Clock::now();
       const uint32_t offset = base + uint32_t(next);
       RenderParams pass = params;
@@ -339,8 +391,10 @@ int run_offload_worker(OffloadChannel& channel, int rank, int threads) {
       });
     }
     // Poll about every millisecond: a new epoch cancels the frame in flight within a tile.
-    if (job.valid()) job.wait_for(std::chrono::milliseconds(1));
-    else std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    if (job.valid())
+      job.wait_for(std::chrono::milliseconds(1));
+    else
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
   }
   channel.finish();
   return 0;

@@ -11,8 +11,12 @@
 /// drops results of any epoch but the newest on arrival, and shows the merged mean: its own session's samples
 /// plus every rank's latest accumulation of the same epoch.
 ///
+/// The user's pause holds every rank: rank 0 posts it (a hold message, apart from the epochs, since a pause is no
+/// restart), and a worker finishes the pass in flight, sends it, and starts no other until the hold is lifted; its
+/// samples stay in the merged image, and resuming continues its sample range where it stopped.
+///
 /// Not distributed (rank 0 alone): the low-resolution first look of an epoch, adaptive sampling's stopped pixels,
-/// pause and the target spp, and the B side of an A/B compare.
+/// the target spp, and the B side of an A/B compare.
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -45,6 +49,8 @@ class OffloadRoot {
   /// Posts epoch `epoch` of rank 0's session. The geometry travels too when `builds` (full BVH builds so far) or
   /// `refits` (refits so far) changed since the last post: rebuilt by the workers, or refitted if only `refits` did.
   void post_epoch(uint64_t epoch, const RenderParams& params, const Scene& scene, int builds, int refits);
+  /// Holds (the user paused) or releases the workers; posts only a change.
+  void set_hold(bool held);
   /// Fetches rank 0's newest frame from `session` and the other ranks' results; when either is new, `out` becomes
   /// the merged frame (spp: all ranks' samples per pixel). Never waits.
   bool fetch(RenderSession& session, SessionFrame& out);
@@ -67,10 +73,16 @@ class OffloadRoot {
 
   std::unique_ptr<OffloadChannel> channel_;
   uint64_t posted_epoch_ = 0;
+  bool held_ = false;
   int posted_builds_ = -1, posted_refits_ = -1;
   SessionFrame own_;
   std::vector<Remote> remote_;  ///< ranks 1..K-1
 };
+
+/// Rank 0's posts: an epoch (encode_epoch, in offload.cpp) or a hold. decode_offload_hold is false for any other
+/// message.
+std::vector<uint8_t> encode_offload_hold(bool held);
+bool decode_offload_hold(const std::vector<uint8_t>& bytes, bool& held);
 
 /// A worker's message to rank 0: its accumulation `film` of epoch `epoch` (spp samples per pixel, in `seconds`).
 std::vector<uint8_t> encode_offload_result(uint64_t epoch, int rank, int spp, double seconds, const Film& film);

@@ -81,7 +81,8 @@ Tier ViewerState::commit(Tier tier) {
   switch (tier) {
     case Tier::none:
     case Tier::display:
-    case Tier::sampling: return tier;
+    case Tier::sampling:
+      return tier;
     case Tier::camera: {
       auto rs = std::make_shared<RenderScene>(*render_scene);
       rs->camera = scene.camera.value_or(Camera{});
@@ -321,6 +322,7 @@ RenderParams ViewerState::params_b() const {
 
 void ViewerState::set_paused(bool p) {
   paused = p;
+  if (offload) offload->set_hold(p);
   if (session) session->set_paused(p || (compare && slice_b));
   if (session_b) session_b->set_paused(p || !compare || !slice_b);
 }
@@ -362,8 +364,6 @@ void ViewerState::note_frame() {
   if (error_history.size() > 4096) error_history.erase(error_history.begin(), error_history.begin() + 2048);
   frame_rel_mse = rel_mse_to_reference(frame);
 }
-
-
 
 int ViewerState::render_threads() const {
   return frame.threads > 0 ? frame.threads : session ? session->thread_count() : 0;

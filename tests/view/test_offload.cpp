@@ -6,14 +6,14 @@
 #include <algorithm>
 #include <chrono>
 #include <cstring>
-#include <utility>
 #include <thread>
+#include <utility>
 
+#include "fake_offload.h"
 #include "render/render_scene.h"
 #include "render/renderer.h"
 #include "scene/load.h"
 #include "view/offload.h"
-#include "fake_offload.h"
 
 namespace pt {
 namespace {
@@ -119,8 +119,7 @@ struct WorkerChannel final : OffloadChannel {
   std::vector<std::vector<uint8_t>> poll_posts() override {
     if (posted < epochs.size()) return {epochs[posted++]};
     OffloadResult last;
-    if (!sent.empty() && decode_offload_result(sent.back(), last) && last.epoch == last_epoch &&
-        last.spp >= stop_spp)
+    if (!sent.empty() && decode_offload_result(sent.back(), last) && last.epoch == last_epoch && last.spp >= stop_spp)
       return {{}};
     return {};
   }
@@ -227,6 +226,104 @@ TEST(Offload, AWorkerRebuildsItsTreeForANewScene) {
   WorkerChannel channel(posted_epochs(2, params, {&*first, &moved}), 8, 16);
   EXPECT_EQ(run_offload_worker(channel, 1, 2), 0);
   expect_films_of_the_rank_range(channel.sent, moved, params, 1, 8, 16);
+}
+
+/// A worker's side of the wire with rank 0's pause in the middle: the epoch, a hold once the worker has sent
+/// `hold_at_spp`, the release `kHeldSeconds` later, and the end once it has sent `stop_spp`. Notes what the worker
+/// sent while held.
+struct PausingChannel final : OffloadChannel {
+  static constexpr double kHeldSeconds = 1.5;
+  std::vector<uint8_t> epoch, hold, release;
+  int hold_at_spp, stop_spp;
+  std::vector<std::vector<uint8_t>> sent;
+  int stage = 0;  // 0: epoch to deliver, 1: running, 2: held, 3: released
+  std::chrono::steady_clock::time_point held_at, stage_start = std::chrono::steady_clock::now();
+  size_t sent_when_settled = 0;  ///< results sent by 0.5 s into the hold (the pass in flight then has gone)
+  int spp_when_settled = 0;
+  bool timed_out = false;
+  PausingChannel(std::vector<uint8_t> e, std::vector<uint8_t> h, std::vector<uint8_t> r, int hold_spp, int stop)
+      : epoch(std::move(e)), hold(std::move(h)), release(std::move(r)), hold_at_spp(hold_spp), stop_spp(stop) {}
+  int last_spp() const {
+    OffloadResult last;
+    return !sent.empty() && decode_offload_result(sent.back(), last) ? last.spp : 0;
+  }
+  void post(std::vector<uint8_t>) override {}
+  std::vector<std::vector<uint8_t>> poll_posts() override {
+    using namespace std::chrono;
+    const double in_stage = duration<double>(steady_clock::now() - stage_start).count();
+    if (in_stage > 60.0) {  // a worker that never resumes (or never renders) ends the test instead of hanging it
+      timed_out = true;
+      return {{}};
+    }
+    auto next = [&](int s) {
+      stage = s;
+      stage_start = steady_clock::now();
+    };
+    switch (stage) {
+      case 0:
+        next(1);
+        return {epoch};
+      case 1:
+        if (last_spp() < hold_at_spp) return {};
+        next(2);
+        return {hold};
+      case 2:
+        if (in_stage >= 0.5 && sent_when_settled == 0) {
+          sent_when_settled = sent.size();
+          spp_when_settled = last_spp();
+        }
+        if (in_stage < kHeldSeconds) return {};
+        next(3);
+        return {release};
+      default:
+        return last_spp() >= stop_spp ? std::vector<std::vector<uint8_t>>{{}} : std::vector<std::vector<uint8_t>>{};
+    }
+  }
+  std::vector<std::vector<uint8_t>> poll_results() override { return {}; }
+  void close() override {}
+  bool send_result(std::vector<uint8_t> m) override {
+    if (stage == 2 && sent_when_settled > 0) sent_after_settled.push_back(m);
+    sent.push_back(std::move(m));
+    return true;
+  }
+  void finish() override {}
+  std::vector<std::vector<uint8_t>> sent_after_settled;
+};
+
+TEST(Offload, APauseHoldsTheWorkersAndResumingContinuesTheirRange) {
+  // Rank 0's pause reaches the workers as a hold: a worker finishes the pass in flight and sends it (within the
+  // first 0.5 s of the hold), then renders and sends nothing until the release; after it, its results continue
+  // its sample range with no sample skipped or repeated (the films of its first spp samples, as before).
+  Result<Scene> scene = load_builtin_scene("cornell");
+  ASSERT_TRUE(scene.ok());
+  const RenderParams params = worker_params();
+  Wire wire;
+  {
+    OffloadRoot root(std::make_unique<FakeChannel>(&wire));
+    root.set_ranks(2);
+    root.post_epoch(7, params, *scene, 1, 0);
+    root.set_hold(true);
+    root.set_hold(true);  // no change: not posted again
+    root.set_hold(false);
+  }
+  ASSERT_EQ(wire.posted.size(), 4u);  // the epoch, the hold, the release, the end
+  bool held = false;
+  ASSERT_TRUE(decode_offload_hold(wire.posted[1], held));
+  EXPECT_TRUE(held);
+  ASSERT_TRUE(decode_offload_hold(wire.posted[2], held));
+  EXPECT_FALSE(held);
+  EXPECT_FALSE(decode_offload_hold(wire.posted[0], held));  // an epoch is no hold
+  EXPECT_FALSE(decode_offload_hold(wire.posted[3], held));  // nor is the end
+
+  PausingChannel channel(wire.posted[0], wire.posted[1], wire.posted[2], 16, 64);
+  EXPECT_EQ(run_offload_worker(channel, 1, 2), 0);
+  ASSERT_FALSE(channel.timed_out) << "the worker never reached " << channel.stop_spp << " spp";
+  ASSERT_GT(channel.sent_when_settled, 0u);
+  EXPECT_TRUE(channel.sent_after_settled.empty())
+      << channel.sent_after_settled.size() << " results sent while held, after the pass in flight";
+  EXPECT_GE(channel.spp_when_settled, 16);
+  EXPECT_GE(channel.last_spp(), 64);
+  expect_films_of_the_rank_range(channel.sent, *scene, params, 1, 7, 64);
 }
 
 }  // namespace

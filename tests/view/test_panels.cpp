@@ -673,6 +673,15 @@ TEST(Panels, TheStatsPanelListsEveryRanksSamples) {
   EXPECT_EQ(wire.posted.size(), 3u);
   ASSERT_TRUE(h.frames_until([&] { return h.st.frame.epoch != epoch; }));
   EXPECT_TRUE(shows_all(h.text(), {"rank 1: spp 0   0.0 spp/s", "rank 2: spp 0   0.0 spp/s"}));
+  // The pause checkbox holds the workers too, and releases them (view/offload.h); no restart is posted.
+  for (bool held : {true, false}) {
+    h.click(PanelHarness::panel().then("pause"));
+    h.frames(1);
+    ASSERT_EQ(wire.posted.size(), held ? 4u : 5u);
+    bool posted = !held;
+    ASSERT_TRUE(decode_offload_hold(wire.posted.back(), posted));
+    EXPECT_EQ(posted, held);
+  }
 }
 
 /// What the Render, Light, Camera and Scene panels show of the state: the figures read from their text.
