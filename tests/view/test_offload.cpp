@@ -229,8 +229,9 @@ TEST(Offload, AWorkerRebuildsItsTreeForANewScene) {
 }
 
 /// A worker's side of the wire with rank 0's pause in the middle: the epoch, a hold once the worker has sent
-/// `hold_at_spp`, the release `kHeldSeconds` later, and the end once it has sent `stop_spp`. Notes what the worker
-/// sent while held.
+/// `hold_at_spp`, the release `kHeldSeconds` later, and the end once it has sent at least `stop_spp` and more
+/// samples than it had when the hold settled (a worker that never resumes times out). Notes what the worker sent
+/// while held.
 struct PausingChannel final : OffloadChannel {
   static constexpr double kHeldSeconds = 1.5;
   std::vector<uint8_t> epoch, hold, release;
@@ -276,7 +277,8 @@ struct PausingChannel final : OffloadChannel {
         next(3);
         return {release};
       default:
-        return last_spp() >= stop_spp ? std::vector<std::vector<uint8_t>>{{}} : std::vector<std::vector<uint8_t>>{};
+        return last_spp() >= stop_spp && last_spp() > spp_when_settled ? std::vector<std::vector<uint8_t>>{{}}
+                                                                       : std::vector<std::vector<uint8_t>>{};
     }
   }
   std::vector<std::vector<uint8_t>> poll_results() override { return {}; }
@@ -293,10 +295,13 @@ struct PausingChannel final : OffloadChannel {
 TEST(Offload, APauseHoldsTheWorkersAndResumingContinuesTheirRange) {
   // Rank 0's pause reaches the workers as a hold: a worker finishes the pass in flight and sends it (within the
   // first 0.5 s of the hold), then renders and sends nothing until the release; after it, its results continue
-  // its sample range with no sample skipped or repeated (the films of its first spp samples, as before).
+  // its sample range with no sample skipped or repeated (the films of its first spp samples, as before; a pass cut
+  // short by the hold would leave its first tiles with samples the next pass takes again).
   Result<Scene> scene = load_builtin_scene("cornell");
   ASSERT_TRUE(scene.ok());
-  const RenderParams params = worker_params();
+  RenderParams params = worker_params();
+  params.width = 64;  // 12 tiles: a hold arriving mid-pass finds some tiles rendered and others not
+  params.height = 48;
   Wire wire;
   {
     OffloadRoot root(std::make_unique<FakeChannel>(&wire));
