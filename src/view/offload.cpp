@@ -197,14 +197,8 @@ bool decode_offload_hold(const std::vector<uint8_t>& bytes, bool& held) {
 }
 
 std::vector<uint8_t> encode_offload_result(uint64_t epoch, int rank, int spp, double seconds, const Film& film) {
-  const OffloadResult res{epoch,
-                          int32_t(rank),
-                          int32_t(film.width),
-                          int32_t(film.height),
-                          int32_t(spp),
-                          seconds,
-                          std::vector<float>(film.sum.begin(), film.sum.end()),
-                          film.count};
+  const OffloadResult res{epoch, int32_t(rank), int32_t(film.width), int32_t(film.height), int32_t(spp), seconds,
+                          std::vector<float>(film.sum.begin(), film.sum.end()), film.count};
   Writer w;
   result_fields(w, res);
   return std::move(w.bytes);
@@ -221,9 +215,10 @@ OffloadRoot::~OffloadRoot() {
   if (channel_) channel_->close();
 }
 
-void OffloadRoot::post_epoch(uint64_t epoch, const RenderParams& params, const Scene& scene, int builds, int refits) {
+void OffloadRoot::post_epoch(uint64_t epoch, const RenderParams& params, const Scene& scene, int builds,
+                             int refits) {
   if (!channel_) return;
-  Geometry g = builds != posted_builds_   ? Geometry::rebuild
+  Geometry g = builds != posted_builds_ ? Geometry::rebuild
                : refits != posted_refits_ ? Geometry::refit
                                           : Geometry::same;
   posted_builds_ = builds;
@@ -308,8 +303,8 @@ int run_offload_worker(OffloadChannel& channel, int rank, int threads) {
   Film film;
   std::vector<uint32_t> first;  // zeros: every pixel's range starts at the rank's base
   RenderCounters counters;
-  bool held = false;                // rank 0's user paused: no new pass
-  bool unsent = false;              // the film holds passes rank 0 has not been sent
+  bool held = false;    // rank 0's user paused: no new pass
+  bool unsent = false;  // the film holds passes rank 0 has not been sent
   int frames = 0, pass_frames = 0;  // frames rendered; frames of the pass in flight
   double seconds = 0.0;
   std::atomic<bool> cancel{false};
@@ -345,10 +340,8 @@ int run_offload_worker(OffloadChannel& channel, int rank, int threads) {
     }
     if (stop) break;
     if (fresh) {
-      if (change == Geometry::rebuild || !geo)
-        geo = make_render_geometry(scene);
-      else if (change == Geometry::refit)
-        geo = refit_render_geometry(*geo, scene);
+      if (change == Geometry::rebuild || !geo) geo = make_render_geometry(scene);
+      else if (change == Geometry::refit) geo = refit_render_geometry(*geo, scene);
       rs = std::make_shared<RenderScene>(make_render_scene(scene, geo));
       film.reset(params.width, params.height);
       first.assign(film.pixel_count(), 0);
@@ -380,8 +373,8 @@ int run_offload_worker(OffloadChannel& channel, int rank, int threads) {
     // stays inside the rank's range of sample indices.
     const int64_t room = ((int64_t(1) << kRankSampleShift) - 1 - next) / params.spp_per_frame;
     if (rs && settled && !held && !job.valid() && room > 0) {
-      pass_frames = int(
-          std::min<int64_t>(frames_for_pass_time(frames > 0 ? seconds / frames : 0.0, kInteractivePassSeconds), room));
+      pass_frames = int(std::min<int64_t>(
+          frames_for_pass_time(frames > 0 ? seconds / frames : 0.0, kInteractivePassSeconds), room));
       job_start = Clock::now();
       const uint32_t offset = base + uint32_t(next);
       RenderParams pass = params;
@@ -391,10 +384,8 @@ int run_offload_worker(OffloadChannel& channel, int rank, int threads) {
       });
     }
     // Poll about every millisecond: a new epoch cancels the frame in flight within a tile.
-    if (job.valid())
-      job.wait_for(std::chrono::milliseconds(1));
-    else
-      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    if (job.valid()) job.wait_for(std::chrono::milliseconds(1));
+    else std::this_thread::sleep_for(std::chrono::milliseconds(1));
   }
   channel.finish();
   return 0;

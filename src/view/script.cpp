@@ -76,15 +76,15 @@ std::string check_material(const std::vector<std::string>& a) {
 }
 
 std::string check_tonemap(const std::vector<std::string>& a) {
-  return value_of<Tonemap>(kTonemapNames, a[0])
-             ? ""
-             : "unknown tonemap '" + a[0] + "' (expected " + names_list<Tonemap>(kTonemapNames) + ")";
+  return value_of<Tonemap>(kTonemapNames, a[0]) ? ""
+                                                : "unknown tonemap '" + a[0] + "' (expected " +
+                                                      names_list<Tonemap>(kTonemapNames) + ")";
 }
 
 std::string check_display_mode(const std::vector<std::string>& a) {
-  return value_of<DisplayMode>(kDisplayModeNames, a[0])
-             ? ""
-             : "unknown display mode '" + a[0] + "' (expected " + names_list<DisplayMode>(kDisplayModeNames) + ")";
+  return value_of<DisplayMode>(kDisplayModeNames, a[0]) ? ""
+                                                        : "unknown display mode '" + a[0] + "' (expected " +
+                                                              names_list<DisplayMode>(kDisplayModeNames) + ")";
 }
 
 std::string check_noise_threshold(const std::vector<std::string>& a) {
@@ -120,8 +120,8 @@ std::variant<std::optional<CompareConfig>, std::string> parse_compare(const std:
       c.adaptive.noise_threshold = std::strtod(value.c_str(), nullptr);
     else
       return "'" + kv + "': expected off, integrator=" + names_list<IntegratorKind>(kIntegratorNames) +
-             ", light-sampling=" + names_list<LightSampling>(kLightSamplingNames) +
-             ", sampler=" + names_list<SamplerKind>(kSamplerNames) + " or adaptive=T|off (0 < T <= 1)";
+             ", light-sampling=" + names_list<LightSampling>(kLightSamplingNames) + ", sampler=" +
+             names_list<SamplerKind>(kSamplerNames) + " or adaptive=T|off (0 < T <= 1)";
   }
   return std::optional<CompareConfig>{c};
 }
@@ -226,12 +226,9 @@ const ScriptCommandSpec kCommands[] = {
          std::string key = c.args[k].substr(0, eq);
          std::vector<float> v;
          parse_values(c.args[k].substr(eq + 1), v);
-         if (key == "ior")
-           m.ior = v[0];
-         else if (key == "albedo")
-           m.albedo = vec3(v[0], v[1], v[2]);
-         else
-           m.emission = vec3(v[0], v[1], v[2]);
+         if (key == "ior") m.ior = v[0];
+         else if (key == "albedo") m.albedo = vec3(v[0], v[1], v[2]);
+         else m.emission = vec3(v[0], v[1], v[2]);
        }
        st.apply(MaterialEdit{st.selected_material, m});
        return ScriptStep::done;
@@ -241,8 +238,7 @@ const ScriptCommandSpec kCommands[] = {
        int n = whole(c, 0);
        if (n >= int(st.lights.size()))
          fail(r, c, "light: the scene has " + std::to_string(st.lights.size()) + " light(s)");
-       else
-         st.selected_light = n;
+       else st.selected_light = n;
        return ScriptStep::done;
      }},
     {"light-size", "W H", 2, 2, true, check_positive,
@@ -297,11 +293,11 @@ const ScriptCommandSpec kCommands[] = {
        // Done once the mode can be shown: a full frame of the current epoch, with its map for error / samples
        // (republished at once by the session), so a following screenshot shows the mode.
        const SessionFrame& f = st.frame;
-       bool ready =
-           mode == DisplayMode::image || (st.session && f.epoch == st.session->epoch() && !f.preview && f.frames > 0 &&
-                                          (mode == DisplayMode::error     ? f.rel_error.width == f.width
-                                           : mode == DisplayMode::samples ? f.spp_map.width == f.width
-                                                                          : true));
+       bool ready = mode == DisplayMode::image ||
+                    (st.session && f.epoch == st.session->epoch() && !f.preview && f.frames > 0 &&
+                     (mode == DisplayMode::error     ? f.rel_error.width == f.width
+                      : mode == DisplayMode::samples ? f.spp_map.width == f.width
+                                                     : true));
        return ready ? ScriptStep::done : ScriptStep::wait;
      }},
     {"noise-threshold", "T [MIN_SPP]", 1, 2, true, check_noise_threshold,

@@ -81,8 +81,7 @@ Tier ViewerState::commit(Tier tier) {
   switch (tier) {
     case Tier::none:
     case Tier::display:
-    case Tier::sampling:
-      return tier;
+    case Tier::sampling: return tier;
     case Tier::camera: {
       auto rs = std::make_shared<RenderScene>(*render_scene);
       rs->camera = scene.camera.value_or(Camera{});
@@ -364,6 +363,8 @@ void ViewerState::note_frame() {
   if (error_history.size() > 4096) error_history.erase(error_history.begin(), error_history.begin() + 2048);
   frame_rel_mse = rel_mse_to_reference(frame);
 }
+
+
 
 int ViewerState::render_threads() const {
   return frame.threads > 0 ? frame.threads : session ? session->thread_count() : 0;

@@ -1,12 +1,12 @@
 // glTF 2.0 loading: geometry (indices, interleaving, strips, sparse), node transforms, cameras, the material
 // mapping, .glb, glTF inside scene JSON, and every kind of bad input as one "FILE: reason" line.
 #include <gtest/gtest.h>
-#include <stb_image_write.h>
 
 #include <algorithm>
 #include <filesystem>
 #include <functional>
 #include <glm/gtc/matrix_transform.hpp>
+#include <stb_image_write.h>
 
 #include "gltf_fixture.h"
 #include "scene/load.h"
@@ -217,10 +217,7 @@ TEST(Gltf, NodeHierarchyWithTrsMatricesAndInstancing) {
   // it after the rotation instead of before would move the vertices. Child: a matrix translating by (0,5,0).
   double h = std::sqrt(0.5);
   int child = b.node({{"mesh", mesh}, {"matrix", {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 5, 0, 1}}}, false);
-  b.node({{"mesh", mesh},
-          {"translation", {10, 0, 0}},
-          {"rotation", {0, 0, h, h}},
-          {"scale", {2, 3, 4}},
+  b.node({{"mesh", mesh}, {"translation", {10, 0, 0}}, {"rotation", {0, 0, h, h}}, {"scale", {2, 3, 4}},
           {"children", {child}}});
   b.node({{"mesh", mesh}});  // the same mesh a third time, untransformed
   test::write_file(dir / "h.gltf", b.embedded());
@@ -254,10 +251,9 @@ TEST(Gltf, FirstPerspectiveCameraWithItsNodeTransform) {
   TempDir dir;
   GltfBuilder b;
   b.node({{"mesh", b.mesh(b.positions(kTriangle))}});
-  b.j["cameras"] = {
-      {{"type", "orthographic"}, {"orthographic", {{"xmag", 1}, {"ymag", 1}, {"znear", 0.1}, {"zfar", 10}}}},
-      {{"type", "perspective"}, {"perspective", {{"yfov", 0.5}, {"znear", 0.1}}}},
-      {{"type", "perspective"}, {"perspective", {{"yfov", 1.0}, {"znear", 0.1}}}}};
+  b.j["cameras"] = {{{"type", "orthographic"}, {"orthographic", {{"xmag", 1}, {"ymag", 1}, {"znear", 0.1}, {"zfar", 10}}}},
+                    {{"type", "perspective"}, {"perspective", {{"yfov", 0.5}, {"znear", 0.1}}}},
+                    {{"type", "perspective"}, {"perspective", {{"yfov", 1.0}, {"znear", 0.1}}}}};
   b.node({{"camera", 0}});
   double h = std::sqrt(0.5);  // the second camera turned 90 degrees about y: it looks down -x
   b.node({{"camera", 1}, {"translation", {7, 0, 0}}, {"rotation", {0, h, 0, h}}});
@@ -379,14 +375,10 @@ TEST(Gltf, MaterialMapping) {
       {{"name", "chrome"}, {"pbrMetallicRoughness", pbr({0.9, 0.8, 0.7, 1}, 1, 0)}},
       {{"name", "brushed"}, {"pbrMetallicRoughness", pbr({0.9, 0.8, 0.7, 1}, 1, 0.2)}},
       {{"name", "rough-metal"}, {"pbrMetallicRoughness", pbr({0.9, 0.8, 0.7, 1}, 1, 0.6)}},
-      {{"name", "water"},
-       {"pbrMetallicRoughness", pbr({1, 1, 1, 1}, 0, 0)},
-       {"extensions",
-        {{"KHR_materials_transmission", {{"transmissionFactor", 1}}}, {"KHR_materials_ior", {{"ior", 1.33}}}}}},
+      {{"name", "water"}, {"pbrMetallicRoughness", pbr({1, 1, 1, 1}, 0, 0)},
+       {"extensions", {{"KHR_materials_transmission", {{"transmissionFactor", 1}}}, {"KHR_materials_ior", {{"ior", 1.33}}}}}},
       {{"name", "glass"}, {"extensions", {{"KHR_materials_transmission", {{"transmissionFactor", 0.9}}}}}},
-      {{"name", "lamp"},
-       {"emissiveFactor", {1, 0.5, 0.25}},
-       {"extensions", {{"KHR_materials_emissive_strength", {{"emissiveStrength", 4}}}}}},
+      {{"name", "lamp"}, {"emissiveFactor", {1, 0.5, 0.25}}, {"extensions", {{"KHR_materials_emissive_strength", {{"emissiveStrength", 4}}}}}},
       {{"name", "leaf"}, {"alphaMode", "BLEND"}, {"pbrMetallicRoughness", pbr({0.1, 0.6, 0.1, 0.5}, 0, 1)}},
       // The thresholds themselves (README: ">= 0.5", "<= 0.3"), and an ior of 0 replaced.
       {{"name", "half-metal"}, {"pbrMetallicRoughness", pbr({0.9, 0.8, 0.7, 1}, 0.5, 0.3)}},
@@ -535,8 +527,7 @@ TEST(Gltf, SceneJsonMeshShapeTransformsOverridesAndPicksCamera) {
   test::write_file(dir / "both.json", R"({"camera": {"eye": [0, 0, 3], "target": [0, 0, 0]}, "shapes": [
     {"type": "mesh", "file": "t.glb", "camera": 0}]})");
   EXPECT_NE(load_error(dir / "both.json").find("shapes[0].camera: the scene already has a \"camera\""),
-            std::string::npos)
-      << load_error(dir / "both.json");
+            std::string::npos) << load_error(dir / "both.json");
 }
 
 // --- bad input ---------------------------------------------------------------------------------------------------
@@ -583,45 +574,28 @@ TEST(GltfBad, RangesAndIndices) {
       {"view_range", [](GltfBuilder& b) { b.j["accessors"][0]["bufferView"] = 5; }, "bufferView 5 out of range"},
       {"acc_overlap", [](GltfBuilder& b) { b.j["accessors"][0]["byteOffset"] = 4; }, "overlap the end of bufferView 0"},
       {"view_overlap", [](GltfBuilder& b) { b.j["bufferViews"][0]["byteOffset"] = 4; }, "overlap the end of buffer 0"},
-      {"index",
-       [](GltfBuilder& b) {
+      {"index", [](GltfBuilder& b) {
          std::vector<uint16_t> idx = {0, 1, 3};
          b.j["meshes"][0]["primitives"][0]["indices"] = b.indices(idx);
-       },
-       "index 3 past the vertex count 3"},
-      {"cycle",
-       [](GltfBuilder& b) {
+       }, "index 3 past the vertex count 3"},
+      {"cycle", [](GltfBuilder& b) {
          b.j["nodes"].push_back({{"children", {2}}});
          b.j["nodes"].push_back({{"children", {1}}});
          b.j["scenes"][0]["nodes"].push_back(1);
-       },
-       "cyclic node graph"},
-      {"two_parents",
-       [](GltfBuilder& b) {
-         b.node({{"children", {0}}});
-       },
-       "more than one parent"},
+       }, "cyclic node graph"},
+      {"two_parents", [](GltfBuilder& b) { b.node({{"children", {0}}}); }, "more than one parent"},
       {"required", [](GltfBuilder& b) { b.j["extensionsRequired"] = {"KHR_draco_mesh_compression"}; },
        "unsupported required extension 'KHR_draco_mesh_compression'"},
       {"stride", [](GltfBuilder& b) { b.j["bufferViews"][0]["byteStride"] = 4; },
        "byteStride 4 is smaller than an element"},
-      {"signed_indices",
-       [](GltfBuilder& b) {
+      {"signed_indices", [](GltfBuilder& b) {
          std::vector<uint16_t> idx = {0, 1, 2};
          const int acc = b.indices(idx);
          b.j["accessors"][size_t(acc)]["componentType"] = 5122;  // signed short
          b.j["meshes"][0]["primitives"][0]["indices"] = acc;
-       },
-       "must be SCALAR of unsigned byte, short or int"},
-      {"sparse_index",
-       [](GltfBuilder& b) {
-         sparse_positions(b, 0, {0, 3});
-       },
-       "sparse index 3 past the count 3"},
-      {"sparse_count",
-       [](GltfBuilder& b) {
-         sparse_positions(b, 0, {0, 1, 2, 0});
-       },
+       }, "must be SCALAR of unsigned byte, short or int"},
+      {"sparse_index", [](GltfBuilder& b) { sparse_positions(b, 0, {0, 3}); }, "sparse index 3 past the count 3"},
+      {"sparse_count", [](GltfBuilder& b) { sparse_positions(b, 0, {0, 1, 2, 0}); },
        "sparse count 4 exceeds the accessor's count"},
       {"normal_count",
        [](GltfBuilder& b) {

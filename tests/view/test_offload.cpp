@@ -6,14 +6,14 @@
 #include <algorithm>
 #include <chrono>
 #include <cstring>
-#include <thread>
 #include <utility>
+#include <thread>
 
-#include "fake_offload.h"
 #include "render/render_scene.h"
 #include "render/renderer.h"
 #include "scene/load.h"
 #include "view/offload.h"
+#include "fake_offload.h"
 
 namespace pt {
 namespace {
@@ -119,7 +119,8 @@ struct WorkerChannel final : OffloadChannel {
   std::vector<std::vector<uint8_t>> poll_posts() override {
     if (posted < epochs.size()) return {epochs[posted++]};
     OffloadResult last;
-    if (!sent.empty() && decode_offload_result(sent.back(), last) && last.epoch == last_epoch && last.spp >= stop_spp)
+    if (!sent.empty() && decode_offload_result(sent.back(), last) && last.epoch == last_epoch &&
+        last.spp >= stop_spp)
       return {{}};
     return {};
   }

@@ -1,8 +1,8 @@
 // The viewer tested as a person would use it: a real window under Xvfb, driven by scripted input through the same
 // code paths as mouse and panels, checked through screenshots, saved images and the stats it writes at exit.
 #include <gtest/gtest.h>
-#include <stb_image.h>
 #include <unistd.h>
+#include <stb_image.h>
 
 #include <nlohmann/json.hpp>
 
@@ -30,8 +30,7 @@ bool have_xvfb() { return std::system("command -v xvfb-run >/dev/null 2>&1") == 
 /// `launcher` runs in front of ptview inside the display (mpirun for the offload test).
 RunResult run_window(const std::vector<std::string>& args, const std::string& launcher = "") {
   std::string wrapper;
-  if (have_xvfb())
-    wrapper = "xvfb-run -a -n " + std::to_string(100 + ::getpid() % 800) + " -s '-screen 0 1280x1024x24'";
+  if (have_xvfb()) wrapper = "xvfb-run -a -n " + std::to_string(100 + ::getpid() % 800) + " -s '-screen 0 1280x1024x24'";
   wrapper += " " + launcher;
   RunResult r = test::run_ptview(args, 240, wrapper);
   // xvfb-run itself sometimes fails to remove its temporary directory (exit 5) after the program ran, seen under
@@ -41,7 +40,7 @@ RunResult run_window(const std::vector<std::string>& args, const std::string& la
   return r;
 }
 
-#define REQUIRE_DISPLAY() \
+#define REQUIRE_DISPLAY()                                                              \
   if (!have_xvfb() && !std::getenv("DISPLAY")) GTEST_SKIP() << "no xvfb-run and no DISPLAY"
 
 struct Png {
@@ -84,10 +83,8 @@ void write_builtin_with_camera(const std::string& name, const Camera& c, const s
   for (const BuiltinAsset& a : builtin_assets())
     if (name == a.name) {
       nlohmann::json j = nlohmann::json::parse(a.json);
-      j["camera"] = {{"eye", {c.eye.x, c.eye.y, c.eye.z}},
-                     {"target", {c.target.x, c.target.y, c.target.z}},
-                     {"up", {c.up.x, c.up.y, c.up.z}},
-                     {"fov", c.fov_deg}};
+      j["camera"] = {{"eye", {c.eye.x, c.eye.y, c.eye.z}}, {"target", {c.target.x, c.target.y, c.target.z}},
+                     {"up", {c.up.x, c.up.y, c.up.z}}, {"fov", c.fov_deg}};
       std::ofstream(path) << j.dump();
       return;
     }
@@ -133,8 +130,8 @@ TEST(Viewer, OpensAndShowsANonUniformImage) {
   EXPECT_GT(mean, 10.0);
   EXPECT_GT(var, 100.0);  // walls, light and spheres, not a flat color
   auto j = nlohmann::json::parse(read_file(dir / "stats.json"));
-  for (const char* key :
-       {"spp", "seconds", "rays", "mrays_per_s", "nonfinite_samples", "bvh", "skipped", "restart_latency_ms", "ui_fps"})
+  for (const char* key : {"spp", "seconds", "rays", "mrays_per_s", "nonfinite_samples", "bvh", "skipped",
+                          "restart_latency_ms", "ui_fps"})
     EXPECT_TRUE(j.contains(key)) << key;
   EXPECT_GE(j["spp"].get<int>(), 3);
   EXPECT_GE(j["restart_latency_ms"]["count"].get<int>(), 1);
@@ -238,10 +235,8 @@ TEST(Viewer, OrbitShowsTheImageOfTheOrbitedCamera) {
   TempDir dir;
   // stop-at-spp before the orbit: the orbit's epoch then stops at exactly 4 samples (set after it, the epoch could
   // already be past 4 on a loaded machine).
-  std::string script = write_script(dir,
-                                    "stop-at-spp 4\nwait-frames 1\norbit 35 10\nexpect-restart\nwait-frames 4\n"
-                                    "save " +
-                                        dir / "viewer.pfm" + "\nquit\n");
+  std::string script = write_script(dir, "stop-at-spp 4\nwait-frames 1\norbit 35 10\nexpect-restart\nwait-frames 4\n"
+                                         "save " + dir / "viewer.pfm" + "\nquit\n");
   auto r = run_window({"--size", "96x64", "--max-depth", "6", "--script", script});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   Camera before = builtin_camera("cornell-spheres"), after = before;
@@ -311,8 +306,8 @@ TEST(Viewer, PanDollyLightIntensityAndWaitMs) {
   pan_camera(cam, 0.1f, 0.0f);
   dolly_camera(cam, 0.7f, 0.0f);  // far above the floor: the viewer's floor does not matter here
   write_builtin_with_camera("cornell-spheres", cam, dir / "moved.json");
-  auto h = test::run_ptview(
-      {dir / "moved.json", "--frames", "2", "--size", "64x64", "--max-depth", "4", "--out", dir / "moved.pfm"});
+  auto h = test::run_ptview({dir / "moved.json", "--frames", "2", "--size", "64x64", "--max-depth", "4", "--out",
+                             dir / "moved.pfm"});
   ASSERT_EQ(h.exit_code, 0) << h.err;
   Result<Image> moved = load_image(dir / "moved.pfm");
   ASSERT_TRUE(moved.ok());
@@ -327,8 +322,7 @@ TEST(Viewer, MaterialEditRestartsAndChangesThePickedObject) {
   // Pixel (64, 200) of 256x256 lies on the mirror sphere of the default scene; make it blue diffuse.
   std::string script = write_script(dir, "wait-frames 4\nsave " + dir / "before.pfm" +
                                              "\npick 64 200\nset-material diffuse albedo=0.05,0.05,0.9\n"
-                                             "expect-restart\nwait-frames 4\nsave " +
-                                             dir / "after.pfm" + "\nquit\n");
+                                             "expect-restart\nwait-frames 4\nsave " + dir / "after.pfm" + "\nquit\n");
   auto r = run_window({"--size", "256x256", "--script", script, "--stats-json", dir / "stats.json"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   Result<Image> before = load_image(dir / "before.pfm"), after = load_image(dir / "after.pfm");
@@ -342,8 +336,7 @@ TEST(Viewer, MaterialEditRestartsAndChangesThePickedObject) {
       ra += after->at(x, y).x;
       ba += after->at(x, y).z;
     }
-  EXPECT_GT(ba / (ra + 1e-6), 2.0 * bb / (rb + 1e-6))
-      << "before r/b " << rb << "/" << bb << " after " << ra << "/" << ba;
+  EXPECT_GT(ba / (ra + 1e-6), 2.0 * bb / (rb + 1e-6)) << "before r/b " << rb << "/" << bb << " after " << ra << "/" << ba;
   auto j = nlohmann::json::parse(read_file(dir / "stats.json"));
   EXPECT_GE(j["epoch"].get<int>(), 2);  // restarted: the spp count started over in a new epoch
   EXPECT_GE(j["spp"].get<int>(), 4);    // ... and grew again
@@ -352,9 +345,8 @@ TEST(Viewer, MaterialEditRestartsAndChangesThePickedObject) {
 TEST(Viewer, ExposureDoesNotRestartButOrbitDoes) {
   REQUIRE_DISPLAY();
   TempDir dir;
-  std::string ok = write_script(dir,
-                                "wait-frames 2\nexposure 2\nexpect-no-restart\ntonemap aces\nexpect-no-restart\n"
-                                "light-size 1.0 0.6\nexpect-restart\nwait-frames 2\nquit\n");
+  std::string ok = write_script(dir, "wait-frames 2\nexposure 2\nexpect-no-restart\ntonemap aces\nexpect-no-restart\n"
+                                     "light-size 1.0 0.6\nexpect-restart\nwait-frames 2\nquit\n");
   auto r = run_window({"--size", "128x128", "--script", ok});
   EXPECT_EQ(r.exit_code, 0) << r.err;
   // The check itself can fail: an orbit is a restart.
@@ -385,8 +377,8 @@ TEST(Viewer, LoadingAMeshRebuildsTheBvh) {
       }
     expected = 800 + 2;
   }
-  std::string script = write_script(
-      dir, "wait-frames 1\nload " + mesh + "\nwait-frames 2\nscreenshot " + dir / "loaded.png" + "\nquit\n");
+  std::string script = write_script(dir, "wait-frames 1\nload " + mesh + "\nwait-frames 2\nscreenshot " +
+                                             dir / "loaded.png" + "\nquit\n");
   auto r = run_window({"--size", "256x256", "--script", script, "--stats-json", dir / "stats.json"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   auto j = nlohmann::json::parse(read_file(dir / "stats.json"));
@@ -404,7 +396,8 @@ TEST(Viewer, LoadingAMeshRebuildsTheBvh) {
 std::string cornell36_with_light(const TempDir& dir) {
   fs::copy_file(fs::path(PTVIEW_SOURCE_DIR) / "bench/data/cornell36.obj", dir / "cornell36.obj");
   // The box is open toward -z: the camera of bench/data/cornell36.json, without its background.
-  std::ofstream(dir / "cornell36.json") << R"({"camera": {"eye": [278, 273, -800], "target": [278, 273, 0], "fov": 37},
+  std::ofstream(dir / "cornell36.json")
+      << R"({"camera": {"eye": [278, 273, -800], "target": [278, 273, 0], "fov": 37},
             "shapes": [{"type": "mesh", "file": "cornell36.obj"}]})";
   std::ofstream(dir / "cornell36.mtl") << "newmtl white\nKd 0.73 0.73 0.73\nnewmtl red\nKd 0.65 0.05 0.05\n"
                                           "newmtl green\nKd 0.12 0.45 0.15\nnewmtl light\nKd 0.78 0.78 0.78\n"
@@ -420,16 +413,13 @@ TEST(Viewer, EveryLightCanBeSelectedAndResized) {
   std::string obj = cornell36_with_light(dir);
   std::string text = "stop-at-spp 2\n";
   // (scene, light count): cornell-spheres has one rectangle light; the OBJ one triangle pair.
-  for (auto [scene, lights] : {std::pair<std::string, int>{"builtin:cornell", 1},
-                               {"builtin:cornell-glass", 1},
-                               {"builtin:cornell-mirror", 1},
-                               {"builtin:cornell-spheres", 1},
-                               {obj, 1}}) {
+  for (auto [scene, lights] : {std::pair<std::string, int>{"builtin:cornell", 1}, {"builtin:cornell-glass", 1},
+                               {"builtin:cornell-mirror", 1}, {"builtin:cornell-spheres", 1}, {obj, 1}}) {
     text += "load " + scene + "\nwait-frames 2\n";
     const std::string size = scene == obj ? "300 100" : "0.3 0.6";  // the OBJ is in millimetres
     for (int l = 0; l < lights; ++l)
-      text +=
-          "light " + std::to_string(l) + "\nlight-scale 1.6\nexpect-restart\nlight-size " + size + "\nexpect-restart\n";
+      text += "light " + std::to_string(l) + "\nlight-scale 1.6\nexpect-restart\nlight-size " + size +
+              "\nexpect-restart\n";
     std::string name = fs::path(scene).stem().string();
     if (name.rfind("builtin:", 0) == 0) name = name.substr(8);
     text += "wait-frames 2\nscreenshot " + dir / ("lights-" + name + ".png") + "\n";
@@ -445,8 +435,8 @@ TEST(Viewer, EveryLightCanBeSelectedAndResized) {
   EXPECT_EQ(j["geometry_refits"].get<int>(), 10);
   if (const char* keep = std::getenv("PTVIEW_KEEP_SCREENSHOTS"))
     for (const auto& e : fs::directory_iterator(dir.path))
-      if (e.path().extension() == ".png")
-        fs::copy_file(e.path(), fs::path(keep) / e.path().filename(), fs::copy_options::overwrite_existing);
+      if (e.path().extension() == ".png") fs::copy_file(e.path(), fs::path(keep) / e.path().filename(),
+                                                        fs::copy_options::overwrite_existing);
 }
 
 // A scene edited in the viewer and saved renders the same headless: bit for bit, since both sum the same samples
@@ -461,9 +451,9 @@ TEST(Viewer, ASavedSceneRendersHeadlessAsTheViewerShowsIt) {
     std::string edits = edit_light ? "light 0\nlight-size 250 80\nlight-intensity 0.5\npick 40 25\n"
                                      "set-material specular albedo=0.9,0.9,0.5\n"
                                    : "";
-    std::string script =
-        write_script(dir, "stop-at-spp 3\nwait-frames 1\norbit 12 -4\n" + edits + "wait-frames 3\nsave " +
-                              dir / "out/viewer.pfm" + "\nsave-scene " + dir / "out/saved.json" + "\nquit\n");
+    std::string script = write_script(dir, "stop-at-spp 3\nwait-frames 1\norbit 12 -4\n" + edits +
+                                               "wait-frames 3\nsave " + dir / "out/viewer.pfm" + "\nsave-scene " +
+                                               dir / "out/saved.json" + "\nquit\n");
     auto r = run_window({obj, "--size", "80x60", "--max-depth", "5", "--script", script});
     ASSERT_EQ(r.exit_code, 0) << r.err;
     auto j = nlohmann::json::parse(read_file(dir / "out/saved.json"));
@@ -473,14 +463,14 @@ TEST(Viewer, ASavedSceneRendersHeadlessAsTheViewerShowsIt) {
     } else {
       EXPECT_EQ(file, "../cornell36.obj") << "an unedited mesh is named by its file, relative to the JSON";
     }
-    auto h = test::run_ptview({dir / "out/saved.json", "--frames", "3", "--size", "80x60", "--max-depth", "5", "--out",
-                               dir / "out/headless.pfm"});
+    auto h = test::run_ptview({dir / "out/saved.json", "--frames", "3", "--size", "80x60", "--max-depth", "5",
+                               "--out", dir / "out/headless.pfm"});
     ASSERT_EQ(h.exit_code, 0) << h.err;
     Result<Image> viewer = load_image(dir / "out/viewer.pfm"), headless = load_image(dir / "out/headless.pfm");
     ASSERT_TRUE(viewer.ok() && headless.ok());
     EXPECT_GT(mean(*viewer), 0.01) << "not black";
-    EXPECT_EQ(viewer->rgb, headless->rgb)
-        << "edit_light " << edit_light << ": mean |difference| " << mean_abs_diff(*viewer, *headless);
+    EXPECT_EQ(viewer->rgb, headless->rgb) << "edit_light " << edit_light << ": mean |difference| "
+                                          << mean_abs_diff(*viewer, *headless);
   }
 }
 
@@ -491,8 +481,7 @@ double image_area_diff(const Png& a, const Png& b) {
   size_t n = 0;
   for (int y = 0; y < a.h; ++y)
     for (int x = kPanelPx; x < a.w; ++x, ++n)
-      for (int c = 0; c < 3; ++c)
-        d += std::abs(int(a.rgb[(size_t(y) * a.w + x) * 3 + c]) - int(b.rgb[(size_t(y) * a.w + x) * 3 + c]));
+      for (int c = 0; c < 3; ++c) d += std::abs(int(a.rgb[(size_t(y) * a.w + x) * 3 + c]) - int(b.rgb[(size_t(y) * a.w + x) * 3 + c]));
   return d / double(n * 3);
 }
 
@@ -516,11 +505,11 @@ size_t top_heat_pixels(const Png& p) { return region_count(p, kPanelPx, p.w, 0, 
 TEST(Viewer, DisplayModesChangeThePixelsWithoutRestarting) {
   REQUIRE_DISPLAY();
   TempDir dir;
-  std::string script =
-      write_script(dir, "stop-at-spp 24\nwait-frames 6\nscreenshot " + dir / "image.png" +
-                            "\ndisplay error\nexpect-no-restart\nscreenshot " + dir / "error.png" +
-                            "\ndisplay samples\nexpect-no-restart\nscreenshot " + dir / "samples.png" +
-                            "\ndisplay image\nexpect-no-restart\nscreenshot " + dir / "image2.png" + "\nquit\n");
+  std::string script = write_script(
+      dir, "stop-at-spp 24\nwait-frames 6\nscreenshot " + dir / "image.png" +
+               "\ndisplay error\nexpect-no-restart\nscreenshot " + dir / "error.png" +
+               "\ndisplay samples\nexpect-no-restart\nscreenshot " + dir / "samples.png" +
+               "\ndisplay image\nexpect-no-restart\nscreenshot " + dir / "image2.png" + "\nquit\n");
   auto r = run_window({"--size", "96x64", "--max-depth", "4", "--script", script, "--stats-json", dir / "stats.json"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   Png image(dir / "image.png"), error(dir / "error.png"), samples(dir / "samples.png"), image2(dir / "image2.png");
@@ -548,8 +537,8 @@ TEST(Viewer, ReferenceErrorModeAndTrueRelMse) {
   std::string script = write_script(dir, "wait-frames 2\nscreenshot " + dir / "image.png" +
                                              "\ndisplay reference-error\nexpect-no-restart\nscreenshot " +
                                              dir / "referr.png" + "\nwait-ms 800\nexpect-no-restart\nquit\n");
-  auto r = run_window(
-      {"--max-depth", "4", "--reference", dir / "ref.pfm", "--script", script, "--stats-json", dir / "stats.json"});
+  auto r = run_window({"--max-depth", "4", "--reference", dir / "ref.pfm", "--script", script, "--stats-json",
+                       dir / "stats.json"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   Png image(dir / "image.png"), referr(dir / "referr.png");
   EXPECT_GT(image_area_diff(image, referr), 1.0);
@@ -586,11 +575,10 @@ std::pair<double, double> region_stats(const Png& p, int x0, int x1, int y0, int
 TEST(Viewer, EqualTimeCompareShowsBothSidesAndTheirStats) {
   REQUIRE_DISPLAY();
   TempDir dir;
-  std::string script =
-      write_script(dir,
-                   "wait-frames 1\ncompare integrator=nee sampler=independent\nexpect-restart\nwait-frames 4\n"
-                   "divider 0.5\nexpect-no-restart\nwait-ms 200\nscreenshot " +
-                       dir / "ab.png" + "\ncompare integrator=bsdf\nexpect-restart\nwait-frames 2\nquit\n");
+  std::string script = write_script(
+      dir, "wait-frames 1\ncompare integrator=nee sampler=independent\nexpect-restart\nwait-frames 4\n"
+           "divider 0.5\nexpect-no-restart\nwait-ms 200\nscreenshot " + dir / "ab.png" +
+           "\ncompare integrator=bsdf\nexpect-restart\nwait-frames 2\nquit\n");
   auto r = run_window({"--size", "128x96", "--max-depth", "4", "--script", script, "--stats-json", dir / "stats.json"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   Png ab(dir / "ab.png");
@@ -644,14 +632,11 @@ bool on_heat_ramp(const unsigned char* q) {
 TEST(Viewer, ACompareDrawsEachSideOnItsOwnHalfAndRedrawsBothOnADisplayChange) {
   REQUIRE_DISPLAY();
   TempDir dir;
-  std::string script =
-      write_script(dir,
-                   "stop-at-spp 32\nexposure 3\ncompare adaptive=0.5\nexpect-restart\ndivider 0.5\nwait-frames 32\n"
-                   "wait-ms 300\ndisplay samples\nexpect-no-restart\nscreenshot " +
-                       dir / "ab.png" + "\ndisplay image\nscreenshot " + dir / "ab_image.png" +
-                       "\ndisplay samples\ncompare off\n"
-                       "expect-no-restart\nscreenshot " +
-                       dir / "a.png" + "\nquit\n");
+  std::string script = write_script(
+      dir, "stop-at-spp 32\nexposure 3\ncompare adaptive=0.5\nexpect-restart\ndivider 0.5\nwait-frames 32\n"
+           "wait-ms 300\ndisplay samples\nexpect-no-restart\nscreenshot " + dir / "ab.png" +
+           "\ndisplay image\nscreenshot " + dir / "ab_image.png" + "\ndisplay samples\ncompare off\n"
+           "expect-no-restart\nscreenshot " + dir / "a.png" + "\nquit\n");
   auto r = run_window({"--size", "128x96", "--max-depth", "4", "--script", script, "--stats-json", dir / "stats.json"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   Png ab(dir / "ab.png"), ab_image(dir / "ab_image.png"), a(dir / "a.png");
@@ -694,8 +679,8 @@ TEST(Viewer, AdaptiveThresholdChangesNeverRestart) {
 /// mpirun with K ranks, as tests/app/test_mpi.cpp runs it (as root, in a container).
 std::string mpirun(int ranks) {
   return "env OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_btl_vader_single_copy_mechanism=none "
-         "ASAN_OPTIONS=detect_leaks=0 " +
-         shell_quote(PTVIEW_MPIEXEC) + " -q --oversubscribe --bind-to none -np " + std::to_string(ranks);
+         "ASAN_OPTIONS=detect_leaks=0 " + shell_quote(PTVIEW_MPIEXEC) + " -q --oversubscribe --bind-to none -np " +
+         std::to_string(ranks);
 }
 #endif
 
@@ -713,15 +698,13 @@ TEST(Viewer, OffloadOrbitRestartsEveryRank) {
   GTEST_SKIP() << "built without MPI (PTVIEW_MPI=OFF)";
 #else
   TempDir dir;
-  std::string script = write_script(dir,
-                                    "stop-at-spp 2\nwait-frames 1\norbit 35 10\nexpect-restart\n"
-                                    "light-size 0.3 0.2\nexpect-restart\nlight-intensity 2\nexpect-restart\n"
-                                    "wait-frames 2\nwait-spp 40\nsave " +
-                                        dir / "viewer.pfm" + "\nsave-scene " + dir / "edited.json" + "\nscreenshot " +
-                                        dir / "shot.png" + "\nquit\n");
-  auto r = run_window(
-      {"--size", "96x64", "--max-depth", "6", "--threads", "1", "--script", script, "--stats-json", dir / "stats.json"},
-      mpirun(3));
+  std::string script = write_script(dir, "stop-at-spp 2\nwait-frames 1\norbit 35 10\nexpect-restart\n"
+                                         "light-size 0.3 0.2\nexpect-restart\nlight-intensity 2\nexpect-restart\n"
+                                         "wait-frames 2\nwait-spp 40\nsave " + dir / "viewer.pfm" + "\nsave-scene " +
+                                         dir / "edited.json" + "\nscreenshot " + dir / "shot.png" + "\nquit\n");
+  auto r = run_window({"--size", "96x64", "--max-depth", "6", "--threads", "1", "--script", script, "--stats-json",
+                       dir / "stats.json"},
+                      mpirun(3));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   auto stats = nlohmann::json::parse(read_file(dir / "stats.json"));
   EXPECT_EQ(stats["ranks"], 3);
@@ -737,8 +720,8 @@ TEST(Viewer, OffloadOrbitRestartsEveryRank) {
   EXPECT_EQ(stats["spp"], 2 + remote_spp);
   for (const std::string& name : {std::string("edited"), std::string("builtin:cornell-spheres")}) {
     const bool edited = name == "edited";
-    auto h = test::run_ptview({edited ? dir / "edited.json" : name, "--frames", "64", "--size", "96x64", "--max-depth",
-                               "6", "--out", dir / (edited ? "after.pfm" : "before.pfm")});
+    auto h = test::run_ptview({edited ? dir / "edited.json" : name, "--frames", "64", "--size", "96x64",
+                               "--max-depth", "6", "--out", dir / (edited ? "after.pfm" : "before.pfm")});
     ASSERT_EQ(h.exit_code, 0) << h.err;
   }
   Result<Image> viewer = load_image(dir / "viewer.pfm"), expected = load_image(dir / "after.pfm"),
@@ -803,8 +786,8 @@ TEST(Viewer, AnImageThatCannotBeWrittenExitsTwoNamingIt) {
   fs::create_directory(dir / "shot.png");
   for (const std::string& command : {"save " + dir / "saved.png", "screenshot " + dir / "shot.png"}) {
     std::string script = write_script(dir, "wait-frames 1\n" + command + "\nwait-frames 2\nquit\n");
-    auto r =
-        run_window({"--size", "64x48", "--max-depth", "3", "--script", script, "--stats-json", dir / "stats.json"});
+    auto r = run_window({"--size", "64x48", "--max-depth", "3", "--script", script, "--stats-json",
+                         dir / "stats.json"});
     EXPECT_EQ(r.exit_code, 2) << command << ": " << r.err;
     const std::string path = command.substr(command.find(' ') + 1);
     EXPECT_NE(r.err.find("ptview: error: " + path), std::string::npos) << r.err;

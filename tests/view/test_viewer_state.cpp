@@ -803,6 +803,8 @@ TEST(Script, EveryMalformedFormIsRejectedWithItsLine) {
       {"window 640 480.5", "not a window size from 1 to 16384"},
       {"window 16385 480", "not a window size from 1 to 16384"},
       {"window 640 x", "is not a number"},
+      {"pause", "takes 1 argument"},
+      {"pause yes", "is neither on nor off"},
   };
   for (const Case& c : cases) {
     auto r = parse_script(std::string("wait-frames 1  # fine\n") + c.line + "\n", "s.txt");
@@ -965,12 +967,25 @@ TEST(Script, WaitsCoverBothSidesOfACompareAndALoadInFlight) {
   EXPECT_GE(st.frame.frames, 1);
 }
 
+TEST(Script, PauseOnAndOffHoldAndResumeTheSession) {
+  // As the Render panel's checkbox: the state's pause and its session's (under mpirun the workers' too, posted by
+  // ViewerState::set_paused: Panels.TheStatsPanelListsEveryRanksSamples).
+  ViewerState st;
+  st.init(builtin("cornell"), small_params(), {}, 1);
+  EXPECT_EQ(run_script(st, "pause on\n").failures, 0);
+  EXPECT_TRUE(st.paused);
+  EXPECT_TRUE(st.session->paused());
+  EXPECT_EQ(run_script(st, "pause off\n").failures, 0);
+  EXPECT_FALSE(st.paused);
+  EXPECT_FALSE(st.session->paused());
+}
+
 TEST(Script, EveryCommandOfTheTableParsesItsWellFormedUse) {
   const char* good =
       "orbit 10 -5\npan 0.1 0\ndolly 0.8\npick 3 4\nset-material glass ior=1.3 emission=0,0,0\nlight 0\n"
       "light-size 0.5 0.2\nlight-scale 1.1\nlight-position 0 1.9 0\nlight-intensity 2\nexposure -1\ntonemap reinhard\n"
       "load x.obj\nwait-frames 2\nwait-spp 4\nwait-ms 10\nstop-at-spp 8\nscreenshot a.png\nsave a.pfm\nsave-scene a.json\nexpect-restart\n"
-      "expect-no-restart\ndisplay error\nnoise-threshold 0.05 16\n"
+      "expect-no-restart\ndisplay error\nnoise-threshold 0.05 16\npause on\n"
       "compare integrator=nee sampler=independent light-sampling=area adaptive=0.1\ndivider 0.3\nwindow 800 600\n"
       "quit\n";
   auto r = parse_script(good, "s.txt");
