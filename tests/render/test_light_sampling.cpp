@@ -444,6 +444,45 @@ TEST(LightSampling, PlanarSamplesBoundTheirDistanceFromTheLightsPlane) {
   }
 }
 
+// A sphere light's sampled point is rounded off the sphere (the direction's sines and cosines, the product with the
+// radius, the sum with the centre); the shadow ray's end is offset by its p_error, so that bound must reach the
+// sphere. A large sphere near the origin and one far from it: a bound built from the centre alone, or too few
+// roundings, fails at one of them.
+TEST(LightSampling, SphereSamplesBoundTheirDistanceFromTheSphere) {
+  const Light lights[] = {make_sphere_light(vec3(0.5f, -0.3f, 0.2f), 3.0e3f, vec3(1.0f)),
+                          make_sphere_light(vec3(1.3e4f, -2.7e3f, 6.1e3f), 2.5f, vec3(1.0f))};
+  Pcg32 rng(23, 9);
+  for (const Light& l : lights) {
+    const glm::dvec3 c(l.p0);
+    int off_sphere = 0;
+    for (float distance : {1.05f, 1.5f, 40.0f}) {  // a wide cone, a middle one, and a small one
+      const vec3 ref = l.p0 + distance * l.radius * glm::normalize(vec3(0.3f, 0.8f, -0.5f));
+      for (int i = 0; i < 4000; ++i) {
+        LightSample ls;
+        if (!sample_light(l, ref, vec2(rng.next_float(), rng.next_float()), LightSampling::solid_angle, ls)) continue;
+        const double dist = std::abs(glm::length(glm::dvec3(ls.point.p) - c) - double(l.radius));
+        off_sphere += dist > 0.0;
+        ASSERT_LE(dist, glm::length(glm::dvec3(ls.point.p_error))) << "radius " << l.radius << ", sample " << i;
+      }
+    }
+    EXPECT_GT(off_sphere, 1000) << "the test needs points rounded off the sphere";
+  }
+}
+
+// A light's share of the light choice is its power, pi * luminance * area: lights of one luminance weigh the same
+// whatever their colour, and a dimmer colour less.
+TEST(LightSampling, LightPowerIsPiTimesLuminanceTimesArea) {
+  const vec3 corner(0.0f), e1(2.0f, 0.0f, 0.0f), e2(0.0f, 0.0f, 1.5f);
+  const float area = 3.0f;
+  for (vec3 emission : {vec3(2.0f), vec3(2.0f / 0.2126f, 0.0f, 0.0f), vec3(0.0f, 2.0f / 0.7152f, 0.0f),
+                        vec3(0.0f, 0.0f, 2.0f / 0.0722f)}) {
+    EXPECT_NEAR(light_power(make_rect_light(corner, e1, e2, emission)), kPi * 2.0f * area, 1e-4f)
+        << emission.x << "," << emission.y << "," << emission.z;
+  }
+  EXPECT_NEAR(light_power(make_rect_light(corner, e1, e2, vec3(1.0f, 0.0f, 0.0f))), kPi * 0.2126f * area, 1e-5f);
+  EXPECT_EQ(light_power(make_rect_light(corner, e1, e2, vec3(-1.0f))), 0.0f);
+}
+
 TEST(LightSampling, BackSideAndBehindGiveNothing) {
   Light rect = make_rect_light(vec3(0, 1, 0), vec3(0, 0, 1), vec3(1, 0, 0), vec3(1));  // faces +y
   LightSample ls;
