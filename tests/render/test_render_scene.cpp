@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <cstring>
+#include <limits>
 
 #include "core/rng.h"
 #include "core/sampling.h"
@@ -167,6 +168,75 @@ TEST(RenderScene, AShadingNormalOnTheFarSideIsTurnedToTheGeometricSide) {
     const SurfaceHit sh = make_surface_hit(rs, ray, hit);
     EXPECT_GT(sh.sp.ng.y, 0.99f);
     EXPECT_GT(glm::dot(sh.ns, sh.sp.ng), 0.9f) << sh.ns.x << " " << sh.ns.y << " " << sh.ns.z;
+  }
+}
+
+// Shading normals that are not finite (or whose length overflows float) are dropped, as if the mesh had none there:
+// a NaN normal would give every bounce from the triangle a NaN direction. Loaders refuse such normals; a scene built
+// in code can still hold them.
+TEST(RenderGeometry, NormalsThatAreNotFiniteAreDropped) {
+  Scene s = pyramid_scene();
+  const float inf = std::numeric_limits<float>::infinity(), nan = std::numeric_limits<float>::quiet_NaN();
+  s.meshes[0].normals[4] = vec3(inf, 0.0f, 0.0f);  // the apex, a corner of the four sides
+  s.meshes[0].normals[0] = vec3(nan, 1.0f, 0.0f);
+  s.meshes[0].normals[2] = vec3(-inf, inf, 1.0f);
+  const auto geo = make_render_geometry(s, {});
+  int dropped = 0;
+  for (vec3 n : geo->tri_normals) {
+    ASSERT_TRUE(std::isfinite(n.x) && std::isfinite(n.y) && std::isfinite(n.z));
+    dropped += n == vec3(0.0f);
+  }
+  EXPECT_EQ(dropped, 4 + 4 + 4 + 6) << "the apex in the 4 sides, corners 0 and 2 in 4 triangles each, and the "
+                                      "quad's 6 corners (which have no normals)";
+  // A triangle keeps shading normals while some corner has one (every pyramid triangle has a finite corner left);
+  // the quad's triangles have none.
+  for (uint32_t t = 0; t < geo->triangle_count(); ++t) {
+    EXPECT_TRUE(geo->tri_shading[t].valid_ng) << "triangle " << t;
+    EXPECT_EQ(geo->tri_shading[t].has_normals, t < geo->quad_first_triangle) << "triangle " << t;
+  }
+}
+
+// A refit keeps the build's render frame scale, so geometry moved far beyond the built bounds can reach coordinates
+// whose edge cross product overflows float; its geometric normal then comes from double (render_scene.cpp,
+// triangle_shading) and is the rebuilt scene's direction, not none.
+TEST(RenderGeometry, ARefitFarBeyondTheBuildsBoundsKeepsTheGeometricNormals) {
+  const Scene before = pyramid_scene(), after = scaled(before, 0x1p66f);
+  const auto geo = make_render_geometry(before, {});
+  ASSERT_EQ(geo->scale, 1.0f);
+  const auto refit = refit_render_geometry(*geo, after);
+  const auto rebuilt = make_render_geometry(after, {});
+  for (uint32_t t = 0; t < refit->triangle_count(); ++t) {
+    const vec3* v = &refit->tri_vertices[3 * t];
+    ASSERT_FALSE(std::isfinite(glm::length(glm::cross(v[1] - v[0], v[2] - v[0])))) << "triangle " << t;
+    const TriangleShading &a = refit->tri_shading[t], &b = rebuilt->tri_shading[t];
+    ASSERT_TRUE(a.valid_ng) << "triangle " << t;
+    EXPECT_NEAR(glm::length(a.ng), 1.0f, 1e-6f);
+    EXPECT_GT(glm::dot(a.ng, b.ng), 0.99999f) << "triangle " << t;
+  }
+}
+
+// The scene's feature flags (which kernel the integrator compiles in, and the stats JSON's features) cover every
+// material, wherever it stands in the list.
+TEST(RenderScene, FeatureFlagsCoverEveryMaterialWhereverItStands) {
+  Material glass;
+  glass.type = MaterialType::glass;
+  glass.ior = 1.5f;
+  struct Case {
+    std::vector<Material> materials;
+    bool delta;
+  };
+  const Case cases[] = {{{test::diffuse(vec3(0.5f))}, false},
+                        {{test::mirror(vec3(0.9f)), test::diffuse(vec3(0.5f))}, true},
+                        {{test::diffuse(vec3(0.5f)), glass, test::diffuse(vec3(0.2f))}, true},
+                        {{test::diffuse(vec3(0.5f)), test::mirror(vec3(0.9f))}, true}};
+  for (const Case& c : cases) {
+    Scene s = pyramid_scene();
+    s.materials = c.materials;
+    const RenderScene rs = make_render_scene(s);
+    EXPECT_EQ(rs.features.has_delta, c.delta) << c.materials.size() << " materials";
+    uint32_t types = 0;
+    for (const Material& m : c.materials) types |= 1u << unsigned(m.type);
+    EXPECT_EQ(rs.features.material_types, types) << c.materials.size() << " materials";
   }
 }
 
