@@ -51,6 +51,11 @@ TEST(Scene, BoundsCoverEveryShape) {
   EXPECT_EQ(b.lo, vec3(-4, -1, -1));
   EXPECT_EQ(b.hi, vec3(5, 2, 3));
   EXPECT_TRUE(Scene{}.bounds().empty());
+  // A quad turned in its plane: its fourth corner (corner + both edges) reaches farther than the other three.
+  Scene turned;
+  turned.quads.push_back({vec3(0, 0, 0), vec3(1, 1, 0), vec3(1, -1, 0.5f), 0});
+  EXPECT_EQ(turned.bounds().lo, vec3(0, -1, 0));
+  EXPECT_EQ(turned.bounds().hi, vec3(2, 1, 0.5f));
 }
 
 TEST(Scene, OnlyUsedEmissiveMaterialsAreEmitters) {
@@ -162,6 +167,31 @@ TEST(Finalize, APointSizedSceneStillGetsAUsableCamera) {
   finalize_scene(s);
   EXPECT_TRUE(is_finite(s.camera->eye));
   EXPECT_GT(glm::length(s.camera->eye - s.camera->target), 0.0f);
+}
+
+// A small scene far from the origin along the view axis: an eye at a few of its radii would round onto the target
+// (the float spacing there is larger than the distance), so the framing keeps the eye a hundred float steps or more
+// away (a hundred thousandth of its distance from the origin), and the camera still looks at the scene.
+TEST(Finalize, ASmallSceneFarAlongTheViewAxisStillGetsAViewDirection) {
+  Scene s = scene_with_sphere(vec3(0.5f, -0.25f, 3.0e7f), 1e-3f);
+  s.background = vec3(1.0f);
+  finalize_scene(s);
+  const dvec3 view = dvec3(s.camera->target) - dvec3(s.camera->eye);
+  ASSERT_GT(glm::length(view), 0.0);
+  EXPECT_GT(glm::length(view), 100 * 2.0) << "at least a hundred float steps (2 apart at 3e7)";
+  EXPECT_GT(glm::dot(glm::normalize(view), dvec3(0, 0, -1)), 0.999);
+}
+
+// An out-of-range camera index names the file and how many cameras it defines, in the singular for one.
+TEST(Scene, AnOutOfRangeCameraNamesHowManyTheFileDefines) {
+  Scene s;
+  s.source = "a.gltf";
+  EXPECT_EQ(select_camera(s, 0), "camera 0 out of range (a.gltf defines 0 perspective cameras)");
+  s.cameras.push_back(Camera{});
+  EXPECT_EQ(select_camera(s, 1), "camera 1 out of range (a.gltf defines 1 perspective camera)");
+  s.cameras.push_back(Camera{});
+  EXPECT_EQ(select_camera(s, 5), "camera 5 out of range (a.gltf defines 2 perspective cameras)");
+  EXPECT_EQ(select_camera(s, 1), "");
 }
 
 TEST(Finalize, AnExistingEmitterMeansNoDefaultLight) {
