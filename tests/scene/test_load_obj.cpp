@@ -140,6 +140,48 @@ TEST(LoadObj, FacesWithoutUsableNormalsShadeFlat) {
   EXPECT_EQ(m.positions.size(), 5u);
 }
 
+// A face shades with the file's normals only when all three of its corners have a usable one: a face whose second
+// corner's normal is zero shades flat (all three corners), while the face beside it keeps the file's normal. And one
+// dropped degenerate triangle is said in the singular.
+TEST(LoadObj, AFaceWithOneUnusableCornerNormalShadesFlat) {
+  test::TempDir dir;
+  Result<Scene> r = load_obj_scene(dir.write("t.obj",
+                                             "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nv 2 0 0\n"  // 1-5
+                                             "vn 0.3 0 1\nvn 0 0 0\n"                           // 6-7
+                                             "f 1//1 2//2 3//1\n"                               // 8
+                                             "f 2//1 4//1 3//1\n"                               // 9
+                                             "f 1 2 5\n"));                                     // 10: no area
+  ASSERT_TRUE(r.ok()) << r.error();
+  const Mesh& m = r->meshes[0];
+  ASSERT_EQ(m.indices.size(), 2u);
+  ASSERT_EQ(m.normal_indices.size(), 2u);
+  const vec3 given = glm::normalize(vec3(0.3f, 0.0f, 1.0f));
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_EQ(m.normals.at(m.normal_indices[0][k]), vec3(0, 0, 1)) << "corner " << k << " of the first face";
+    EXPECT_NEAR(glm::distance(m.normals.at(m.normal_indices[1][k]), given), 0.0f, 1e-6f) << "corner " << k;
+  }
+  ASSERT_EQ(r->warnings.size(), 1u);
+  EXPECT_EQ(r->warnings[0], dir / "t.obj" + ":10: 1 degenerate (zero-area) triangle dropped (the first from this line)");
+}
+
+// Faces without a usemtl and faces naming materials no library defines all share one default grey material.
+TEST(LoadObj, FacesWithoutAUsableMaterialShareOneDefaultGrey) {
+  test::TempDir dir;
+  dir.write("t.mtl", "newmtl red\nKd 1 0 0\n");
+  Result<Scene> r = load_obj_scene(dir.write("t.obj",
+                                             "mtllib t.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\n"
+                                             "f 1 2 3\nusemtl nowhere\nf 2 4 3\nusemtl red\nf 1 2 3\n"
+                                             "usemtl elsewhere\nf 2 4 3\n"));
+  ASSERT_TRUE(r.ok()) << r.error();
+  ASSERT_EQ(r->materials.size(), 2u) << "the default grey and red";
+  EXPECT_EQ(r->warnings.size(), 2u) << "one for each undefined name";
+  for (size_t face : {0, 1, 3}) {
+    EXPECT_EQ(face_material(*r, face).name, "default") << "face " << face;
+    EXPECT_EQ(r->meshes[0].materials[face], r->meshes[0].materials[0]) << "face " << face;
+  }
+  EXPECT_EQ(face_material(*r, 2).name, "red");
+}
+
 TEST(LoadObj, MissingMtlIsOneLocatedWarningAndDefaultGrey) {
   Result<Scene> r = load_unfinalized("missing_mtl.obj");
   ASSERT_TRUE(r.ok());
