@@ -54,6 +54,11 @@ Scene make_scene(const TempDir& dir) {
   s.quads.push_back({vec3(-1, 3, -1), vec3(2, 0, 0), vec3(0, 0, 1.5f), m_lamp});
   s.spheres.push_back({{vec3(0.5f, 1, 0), 0.25f}, m_water});
   s.spheres.push_back({{vec3(-0.5f, 1, 0), 0.5f}, m_mirror});
+  // Two materials without a name (made in code): each is saved under a name of its own.
+  s.materials.push_back(Material{"", MaterialType::diffuse, vec3(0.1f, 0.7f, 0.2f)});
+  s.spheres.push_back({{vec3(1.5f, 1, 0), 0.2f}, uint32_t(s.materials.size() - 1)});
+  s.materials.push_back(Material{"", MaterialType::diffuse, vec3(0.6f, 0.3f, 0.9f)});
+  s.spheres.push_back({{vec3(2.5f, 1, 0), 0.2f}, uint32_t(s.materials.size() - 1)});
   Mesh far;  // made in code, 1e5 from the origin, a material per triangle
   far.name = "far";
   far.origin = dvec3(1e5, 0.0, -2.0);
@@ -61,6 +66,8 @@ Scene make_scene(const TempDir& dir) {
                    vec3(0.002f, 0.001f, 0)};
   far.indices = {uvec3(0, 1, 2), uvec3(1, 3, 2), uvec3(1, 4, 3), uvec3(0, 4, 1)};
   far.materials = {m_water, paint, m_lamp, m_mirror};  // every type, and an emitter, through the written MTL
+  far.normals = {glm::normalize(vec3(0.1f, 0.2f, 1.0f)), vec3(0, 0, 1), glm::normalize(vec3(-0.3f, 0.0f, 1.0f))};
+  far.normal_indices = {uvec3(0, 1, 2), uvec3(1, 2, 0), uvec3(2, 2, 1), uvec3(0, 0, 0)};
   s.meshes.push_back(far);
   return s;
 }
@@ -109,6 +116,11 @@ TEST(SaveJson, EveryPartOfASceneLoadsBackTheSame) {
         const dvec3 pa = a.origin + dvec3(a.positions[a.indices[t][k]]);
         const dvec3 pb = b.origin + dvec3(b.positions[b.indices[t][k]]);
         EXPECT_LE(glm::length(pa - pb), 1e-6 * (1.0 + glm::length(pa))) << "mesh " << m << " triangle " << t;
+        if (m == 1) {  // the written mesh: its numbers are written so that they read back as the same floats
+          EXPECT_EQ(pa, pb) << "triangle " << t << " corner " << k;
+          ASSERT_EQ(b.normal_indices.size(), b.indices.size()) << "the shading normals were kept";
+          expect_near(b.normals[b.normal_indices[t][k]], a.normals[a.normal_indices[t][k]], 1e-6f, "normal");
+        }
       }
       const uint32_t ma = a.materials.empty() ? 0 : a.materials[t], mb = b.materials.empty() ? 0 : b.materials[t];
       expect_same_material(back.materials[mb], s.materials[ma], "mesh " + std::to_string(m));
@@ -118,6 +130,36 @@ TEST(SaveJson, EveryPartOfASceneLoadsBackTheSame) {
   EXPECT_EQ(fs::path(back.meshes[0].source.file).filename(), "tri.obj");
   EXPECT_FALSE(fs::exists(dir.path / "saved" / "scene.mesh0.obj"));
   EXPECT_TRUE(fs::exists(dir.path / "saved" / "scene.mesh1.obj"));
+  // Named relative to the saved scene: the two folders moved together still load.
+  fs::create_directory(dir.path / "moved");
+  fs::rename(dir.path / "saved", dir.path / "moved" / "saved");
+  fs::rename(dir.path / "tri.obj", dir.path / "moved" / "tri.obj");
+  Result<Scene> moved = load_scene((dir.path / "moved" / "saved" / "scene.json").string());
+  EXPECT_TRUE(moved.ok()) << moved.error();
+}
+
+// A mesh whose faces use its OBJ's own materials is named by its file while those materials are as loaded; once one
+// is edited, the saved scene writes the mesh (and its MTL) out, so the edit is kept.
+TEST(SaveJson, AMeshWithEditedFileMaterialsIsWrittenOut) {
+  TempDir dir;
+  dir.write("lit.mtl", "newmtl wall\nKd 0.5 0.5 0.5\n");
+  dir.write("lit.obj", "mtllib lit.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl wall\nf 1 2 3\n");
+  Result<Scene> loaded = load_scene(dir.write("in.json", R"({"shapes": [{"type": "mesh", "file": "lit.obj"}]})"));
+  ASSERT_TRUE(loaded.ok()) << loaded.error();
+  Scene s = std::move(loaded.value());
+  ASSERT_TRUE(s.meshes.at(0).source.file_materials);
+  const std::vector<Material> as_loaded = s.materials;
+  for (bool edited : {false, true}) {
+    if (edited) s.materials[s.meshes[0].materials[0]].albedo = vec3(0.9f, 0.1f, 0.1f);
+    const std::string out = dir / (edited ? "edited.json" : "same.json");
+    const std::optional<Error> err = save_scene_json(s, as_loaded, out);
+    ASSERT_FALSE(err.has_value()) << err->message;
+    Result<Scene> back = load_scene(out);
+    ASSERT_TRUE(back.ok()) << back.error();
+    expect_same_material(back->materials[back->meshes.at(0).materials.at(0)], s.materials[s.meshes[0].materials[0]],
+                         edited ? "edited" : "as loaded");
+    EXPECT_EQ(fs::exists(dir.path / (edited ? "edited.mesh0.obj" : "same.mesh0.obj")), edited);
+  }
 }
 
 }  // namespace
