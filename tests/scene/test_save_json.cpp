@@ -4,6 +4,7 @@
 // the same scene.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 
 #include "scene/load.h"
@@ -64,6 +65,9 @@ Scene make_scene(const TempDir& dir) {
   far.origin = dvec3(1e5, 0.0, -2.0);
   far.positions = {vec3(0, 0, 0), vec3(0.001f, 0, 0), vec3(0, 0.001f, 0), vec3(0.001f, 0.001f, 0.0005f),
                    vec3(0.002f, 0.001f, 0)};
+  for (vec3& p : far.positions)  // an ulp off the short decimals: nine digits are needed to read them back
+    for (int a = 0; a < 3; ++a)
+      if (p[a] != 0.0f) p[a] = std::nextafter(p[a], 1.0f);
   far.indices = {uvec3(0, 1, 2), uvec3(1, 3, 2), uvec3(1, 4, 3), uvec3(0, 4, 1)};
   far.materials = {m_water, paint, m_lamp, m_mirror};  // every type, and an emitter, through the written MTL
   far.normals = {glm::normalize(vec3(0.1f, 0.2f, 1.0f)), vec3(0, 0, 1), glm::normalize(vec3(-0.3f, 0.0f, 1.0f))};
