@@ -187,7 +187,7 @@ TEST(RenderGeometry, NormalsThatAreNotFiniteAreDropped) {
     dropped += n == vec3(0.0f);
   }
   EXPECT_EQ(dropped, 4 + 4 + 4 + 6) << "the apex in the 4 sides, corners 0 and 2 in 4 triangles each, and the "
-                                      "quad's 6 corners (which have no normals)";
+                                       "quad's 6 corners (which have no normals)";
   // A triangle keeps shading normals while some corner has one (every pyramid triangle has a finite corner left);
   // the quad's triangles have none.
   for (uint32_t t = 0; t < geo->triangle_count(); ++t) {

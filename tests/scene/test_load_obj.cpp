@@ -147,10 +147,10 @@ TEST(LoadObj, AFaceWithOneUnusableCornerNormalShadesFlat) {
   test::TempDir dir;
   Result<Scene> r = load_obj_scene(dir.write("t.obj",
                                              "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nv 2 0 0\n"  // 1-5
-                                             "vn 0.3 0 1\nvn 0 0 0\n"                           // 6-7
-                                             "f 1//1 2//2 3//1\n"                               // 8
-                                             "f 2//1 4//1 3//1\n"                               // 9
-                                             "f 1 2 5\n"));                                     // 10: no area
+                                             "vn 0.3 0 1\nvn 0 0 0\n"                         // 6-7
+                                             "f 1//1 2//2 3//1\n"                             // 8
+                                             "f 2//1 4//1 3//1\n"                             // 9
+                                             "f 1 2 5\n"));                                   // 10: no area
   ASSERT_TRUE(r.ok()) << r.error();
   const Mesh& m = r->meshes[0];
   ASSERT_EQ(m.indices.size(), 2u);
@@ -161,7 +161,8 @@ TEST(LoadObj, AFaceWithOneUnusableCornerNormalShadesFlat) {
     EXPECT_NEAR(glm::distance(m.normals.at(m.normal_indices[1][k]), given), 0.0f, 1e-6f) << "corner " << k;
   }
   ASSERT_EQ(r->warnings.size(), 1u);
-  EXPECT_EQ(r->warnings[0], dir / "t.obj" + ":10: 1 degenerate (zero-area) triangle dropped (the first from this line)");
+  EXPECT_EQ(r->warnings[0],
+            dir / "t.obj" + ":10: 1 degenerate (zero-area) triangle dropped (the first from this line)");
 }
 
 // Faces without a usemtl and faces naming materials no library defines all share one default grey material.
