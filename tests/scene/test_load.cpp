@@ -1,10 +1,18 @@
 // Loading entry points and the built-in scenes: every asset parses with its camera and light, its walls face the
 // inside, its objects stand on the floor inside the box without touching walls or each other, its blocks are
 // closed outward, and the large-mesh scene is large.
+#include <fcntl.h>
 #include <gtest/gtest.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <future>
 
 #include "scene/builtin_assets.h"
 #include "scene/load.h"
+#include "scene/load_internal.h"
+#include "temp_dir.h"
 
 namespace pt {
 namespace {
@@ -178,6 +186,66 @@ TEST(Load, ExtensionDecidesTheFormat) {
   Result<Scene> mtl = load_scene(dir + "materials.mtl");
   ASSERT_FALSE(mtl.ok());
   EXPECT_EQ(mtl.error(), dir + "materials.mtl: unsupported scene type '.mtl' (expected .json, .obj, .gltf or .glb)");
+}
+
+// The type is found from the extension; a file without one, and a missing file of an unknown type, say so.
+TEST(Load, AFileWithoutATypeOrMissingSaysWhich) {
+  test::TempDir dir;
+  const std::string bare = dir.write("scene", "{}");
+  Result<Scene> r = load_scene(bare);
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.error(), bare + ": unsupported scene type (no extension) (expected .json, .obj, .gltf or .glb)");
+  Result<Scene> missing = load_scene(dir / "missing.xyz");
+  ASSERT_FALSE(missing.ok());
+  EXPECT_EQ(missing.error(), dir / "missing.xyz" + ": cannot open: No such file or directory");
+}
+
+// A scene path that is not a regular file is refused before it is read: a device reads as nothing, and opening a
+// FIFO for reading waits for a writer that never comes.
+TEST(Load, WhatIsNotARegularFileIsRefusedUnread) {
+  Result<Scene> dev = load_obj_scene("/dev/null");
+  ASSERT_FALSE(dev.ok());
+  EXPECT_EQ(dev.error(), "/dev/null: cannot open: not a regular file");
+  test::TempDir dir;
+  const std::string fifo = dir / "pipe.obj";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  auto loading = std::async(std::launch::async, [&] { return load_scene(fifo); });
+  if (loading.wait_for(std::chrono::seconds(20)) != std::future_status::ready) {
+    ADD_FAILURE() << "the load is waiting on the FIFO";
+    const int writer = ::open(fifo.c_str(), O_WRONLY | O_NONBLOCK);  // let it go: it reads an empty file
+    if (writer >= 0) ::close(writer);
+  }
+  Result<Scene> r = loading.get();
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.error(), fifo + ": cannot open: not a regular file");
+}
+
+// Materials of one name but different parameters are told apart by a numbered suffix on the first name: a#2, a#3,
+// not a#2#3.
+TEST(Load, SameNamedMaterialsAreNumberedFromTheirName) {
+  Scene s;
+  for (float r : {0.1f, 0.2f, 0.3f, 0.2f}) add_material(s, Material{"paint", MaterialType::diffuse, vec3(r)});
+  ASSERT_EQ(s.materials.size(), 3u) << "the fourth is the second again";
+  EXPECT_EQ(s.materials[0].name, "paint");
+  EXPECT_EQ(s.materials[1].name, "paint#2");
+  EXPECT_EQ(s.materials[2].name, "paint#3");
+  // A glass does not read its albedo (an MTL's Kd sets it): two glasses that differ only there are one material.
+  EXPECT_EQ(add_material(s, Material{"lens", MaterialType::glass, vec3(0.5f), 1.5f}),
+            add_material(s, Material{"lens", MaterialType::glass, vec3(0.9f), 1.5f}));
+}
+
+// Every warning is one line, even one that quotes a file's text holding a line break (here a JSON key).
+TEST(Load, WarningsAreOneLine) {
+  test::TempDir dir;
+  Result<Scene> r =
+      load_scene(dir.write("s.json", R"({"shapes": [{"type": "sphere", "radius": 1}], "odd\nkey": 1, "odd\rone": 2})"));
+  ASSERT_TRUE(r.ok()) << r.error();
+  int unknown = 0;
+  for (const std::string& w : r->warnings) {
+    EXPECT_EQ(w.find_first_of("\n\r"), std::string::npos) << w;
+    unknown += w.find("unknown key ignored") != std::string::npos;
+  }
+  EXPECT_EQ(unknown, 2);
 }
 
 }  // namespace
