@@ -174,7 +174,7 @@ TEST(Gltf, StripsAndFansAreConvertedPointsAndLinesSkipped) {
   int strip = b.mesh(b.positions(quad), -1, -1, -1, 5);
   std::vector<vec3> fan = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
   int fan_mesh = b.mesh(b.positions(fan), -1, -1, -1, 6);
-  b.j["meshes"][size_t(fan_mesh)]["name"] = "fanny";
+  b.j["meshes"][size_t(fan_mesh)]["name"] = "fan\nny";  // a line break in a name is escaped in the warning
   b.j["meshes"][size_t(fan_mesh)]["primitives"].push_back({{"attributes", {{"POSITION", 0}}}, {"mode", 1}});
   b.node({{"mesh", strip}});
   b.node({{"mesh", fan_mesh}, {"translation", {0, 0, 2}}});
@@ -186,7 +186,7 @@ TEST(Gltf, StripsAndFansAreConvertedPointsAndLinesSkipped) {
     vec3 n = glm::cross(m.positions[t.y] - m.positions[t.x], m.positions[t.z] - m.positions[t.x]);
     EXPECT_GT(n.z, 0.0f);
   }
-  EXPECT_TRUE(has_warning(s, "mesh 1 'fanny': 1 primitive in mode 'lines' skipped")) << s.warnings.size();
+  EXPECT_TRUE(has_warning(s, "mesh 1 'fan\\nny': 1 primitive in mode 'lines' skipped")) << s.warnings.size();
 }
 
 /// Sparse substitutions of VEC3 accessor `acc` at `which` (unsigned byte indices), each moved to (0, 3, 0).
