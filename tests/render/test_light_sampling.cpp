@@ -446,8 +446,8 @@ TEST(LightSampling, PlanarSamplesBoundTheirDistanceFromTheLightsPlane) {
 
 // A sphere light's sampled point is rounded off the sphere (the direction's sines and cosines, the product with the
 // radius, the sum with the centre); the shadow ray's end is offset by its p_error, so that bound must reach the
-// sphere. A large sphere near the origin and one far from it: a bound built from the centre alone, or too few
-// roundings, fails at one of them.
+// sphere. A large sphere near the origin and one far from it: a bound built from the centre alone, or from one
+// rounding, fails at one of them.
 TEST(LightSampling, SphereSamplesBoundTheirDistanceFromTheSphere) {
   const Light lights[] = {make_sphere_light(vec3(0.5f, -0.3f, 0.2f), 3.0e3f, vec3(1.0f)),
                           make_sphere_light(vec3(1.3e4f, -2.7e3f, 6.1e3f), 2.5f, vec3(1.0f))};

@@ -171,9 +171,8 @@ TEST(RenderScene, AShadingNormalOnTheFarSideIsTurnedToTheGeometricSide) {
   }
 }
 
-// Shading normals that are not finite (or whose length overflows float) are dropped, as if the mesh had none there:
-// a NaN normal would give every bounce from the triangle a NaN direction. Loaders refuse such normals; a scene built
-// in code can still hold them.
+// Shading normals that are not finite are dropped, as if the mesh had none there: a NaN normal would give every
+// bounce from the triangle a NaN direction. Loaders refuse such normals; a scene built in code can still hold them.
 TEST(RenderGeometry, NormalsThatAreNotFiniteAreDropped) {
   Scene s = pyramid_scene();
   const float inf = std::numeric_limits<float>::infinity(), nan = std::numeric_limits<float>::quiet_NaN();

@@ -134,7 +134,7 @@ TEST(SaveJson, EveryPartOfASceneLoadsBackTheSame) {
   EXPECT_EQ(fs::path(back.meshes[0].source.file).filename(), "tri.obj");
   EXPECT_FALSE(fs::exists(dir.path / "saved" / "scene.mesh0.obj"));
   EXPECT_TRUE(fs::exists(dir.path / "saved" / "scene.mesh1.obj"));
-  // Named relative to the saved scene: the two folders moved together still load.
+  // Named relative to the saved scene: the saved folder and the mesh file, moved together, still load.
   fs::create_directory(dir.path / "moved");
   fs::rename(dir.path / "saved", dir.path / "moved" / "saved");
   fs::rename(dir.path / "tri.obj", dir.path / "moved" / "tri.obj");
