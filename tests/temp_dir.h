@@ -4,9 +4,18 @@
 
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <string>
 
 namespace pt::test {
+
+/// The bytes of the file at `p` (empty if it cannot be read).
+inline std::string read_file(const std::filesystem::path& p) {
+  std::ifstream f(p, std::ios::binary);
+  std::stringstream ss;
+  ss << f.rdbuf();
+  return ss.str();
+}
 
 /// A fresh temporary directory (mkdtemp: unique even for tests of one process or of parallel processes), removed
 /// with everything in it by the destructor.

@@ -27,13 +27,6 @@ inline std::string shell_quote(const std::string& s) {
   return q + "'";
 }
 
-inline std::string read_file(const std::filesystem::path& p) {
-  std::ifstream f(p, std::ios::binary);
-  std::stringstream ss;
-  ss << f.rdbuf();
-  return ss.str();
-}
-
 /// Runs PTVIEW_EXE with `args` (each quoted), with a timeout so a hang fails the test instead of blocking it.
 /// `wrapper` goes between the timeout and the executable (e.g. "xvfb-run -a").
 inline RunResult run_ptview(const std::vector<std::string>& args, int timeout_s = 300, const std::string& wrapper = "") {

@@ -9,7 +9,6 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 #include <stdexcept>
 
 #include "core/atomic_file.h"
@@ -18,19 +17,11 @@
 namespace pt {
 namespace {
 
-std::string read(const std::string& path) {
-  std::ifstream f(path, std::ios::binary);
-  std::stringstream s;
-  s << f.rdbuf();
-  return s.str();
-}
-
 /// The names in `dir`, which must be `expected` alone.
 void expect_only(const test::TempDir& dir, const std::string& expected) {
-  std::vector<std::string> names;
-  for (const auto& e : std::filesystem::directory_iterator(dir.path)) names.push_back(e.path().filename().string());
-  ASSERT_EQ(names.size(), 1u) << "a temporary file stayed behind: " << names.back();
-  EXPECT_EQ(names[0], expected);
+  std::string names;
+  for (const auto& e : std::filesystem::directory_iterator(dir.path)) names += " " + e.path().filename().string();
+  EXPECT_EQ(names, " " + expected) << "a temporary file stayed behind, or the file is gone";
 }
 
 TEST(AtomicFile, WritesTheBytesAndLeavesNothingElse) {
@@ -40,7 +31,7 @@ TEST(AtomicFile, WritesTheBytesAndLeavesNothingElse) {
   for (size_t i = 0; i < bytes.size(); ++i) bytes[i] = char(i * 7 % 251);
   ASSERT_FALSE(write_file_atomic(path, "old"));
   ASSERT_FALSE(write_file_atomic(path, bytes));
-  EXPECT_EQ(read(path), bytes);
+  EXPECT_EQ(test::read_file(path), bytes);
   expect_only(dir, "out.bin");
 }
 
@@ -55,7 +46,7 @@ TEST(AtomicFile, AWriterThatThrowsKeepsTheOldFile) {
     });
     ASSERT_TRUE(e);
     EXPECT_EQ(e->message, path + ": " + (standard ? "out of paper" : "unknown error while writing"));
-    EXPECT_EQ(read(path), "old");
+    EXPECT_EQ(test::read_file(path), "old");
     expect_only(dir, "out.txt");
   }
 }
@@ -90,7 +81,7 @@ TEST(AtomicFile, AWriteCutShortKeepsTheOldFile) {
     }
     ASSERT_TRUE(e) << size << " bytes";
     EXPECT_EQ(e->message, path + ": write failed: " + std::strerror(EFBIG)) << size << " bytes";
-    EXPECT_EQ(read(path), "old");
+    EXPECT_EQ(test::read_file(path), "old");
     expect_only(dir, "out.txt");
   }
 }

@@ -12,7 +12,6 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <iterator>
 #include <limits>
 #include <map>
 #include <string>
@@ -20,12 +19,14 @@
 #include <vector>
 
 #include "render/image.h"
+#include "temp_dir.h"
 
 namespace fs = std::filesystem;
 using pt::DisplaySettings;
 using pt::Image;
 using pt::Tonemap;
 using pt::vec3;
+using pt::test::read_file;
 
 namespace {
 
@@ -53,10 +54,6 @@ class ImageFiles : public ::testing::Test {
   fs::path dir_;
 };
 
-std::string read_bytes(const std::string& p) {
-  std::ifstream in(p, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
 void write_bytes(const std::string& p, const std::string& bytes) {
   std::ofstream out(p, std::ios::binary);
   out.write(bytes.data(), std::streamsize(bytes.size()));
@@ -216,7 +213,7 @@ TEST_F(ImageFiles, PfmRoundTripIsBitExactAndStoresBottomRowFirst) {
   const Image img = awkward_image();
   const std::string p = path("round.pfm");
   ASSERT_FALSE(pt::save_image(p, img).has_value());
-  const std::string bytes = read_bytes(p);
+  const std::string bytes = read_file(p);
   const std::string header = "PF\n7 3\n-1.0\n";
   ASSERT_EQ(bytes.size(), header.size() + 7 * 3 * 3 * 4);
   EXPECT_EQ(bytes.substr(0, header.size()), header);
@@ -325,7 +322,7 @@ TEST_F(ImageFiles, ExrRoundTripIsExact) {
   const Image img = awkward_image();
   const std::string p = path("round.exr");
   ASSERT_FALSE(pt::save_image(p, img).has_value());
-  EXPECT_EQ(read_bytes(p).substr(0, 4), std::string("\x76\x2f\x31\x01", 4));  // OpenEXR magic number
+  EXPECT_EQ(read_file(p).substr(0, 4), std::string("\x76\x2f\x31\x01", 4));  // OpenEXR magic number
   const pt::Result<Image> back = pt::load_image(p);
   ASSERT_TRUE(back.ok()) << back.error();
   expect_bit_equal(img, *back);
@@ -455,9 +452,9 @@ TEST(ImageExtensions, RecognisedCaseInsensitively) {
 TEST_F(ImageFiles, UpperCaseExtensionsPickTheFormat) {
   const Image img = awkward_image();
   ASSERT_FALSE(pt::save_image(path("A.PFM"), img).has_value());
-  EXPECT_TRUE(starts_with(read_bytes(path("A.PFM")), "PF\n7 3\n"));
+  EXPECT_TRUE(starts_with(read_file(path("A.PFM")), "PF\n7 3\n"));
   ASSERT_FALSE(pt::save_image(path("B.Png"), img).has_value());
-  EXPECT_EQ(read_bytes(path("B.Png")).substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8));
+  EXPECT_EQ(read_file(path("B.Png")).substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8));
 }
 
 TEST_F(ImageFiles, WritingIntoAMissingDirectoryFailsAndCreatesNothing) {
@@ -516,7 +513,7 @@ TEST_F(ImageFiles, ReadOnlyDirectoryFailsWithoutTempFiles) {
   std::optional<pt::Error> err = pt::save_image(path("plain") + "/keep.pfm", Image(2, 2));
   ASSERT_TRUE(err.has_value());
   EXPECT_TRUE(contains(err->message, "plain/keep.pfm")) << err->message;
-  EXPECT_EQ(read_bytes(path("plain")), "x");
+  EXPECT_EQ(read_file(path("plain")), "x");
   // 2. The target is a non-empty directory: the temporary file is written, the rename fails, and the temporary
   //    file must be removed, leaving the directory as it was.
   fs::create_directories(dir_ / "taken.pfm");
@@ -527,7 +524,7 @@ TEST_F(ImageFiles, ReadOnlyDirectoryFailsWithoutTempFiles) {
     ASSERT_TRUE(err.has_value()) << ext;
     EXPECT_TRUE(contains(err->message, std::string("taken.") + ext)) << err->message;
   }
-  EXPECT_EQ(read_bytes(path("taken.pfm/inside")), "y");
+  EXPECT_EQ(read_file(path("taken.pfm/inside")), "y");
   EXPECT_EQ(listing(), (std::vector<std::string>{"plain", "taken.exr", "taken.pfm", "taken.png"}));
   // 3. As a non-root user, also a read-only directory.
   if (::geteuid() != 0) {
@@ -538,7 +535,7 @@ TEST_F(ImageFiles, ReadOnlyDirectoryFailsWithoutTempFiles) {
     fs::permissions(dir_ / "ro", fs::perms::owner_all);
     ASSERT_TRUE(err.has_value());
     EXPECT_TRUE(contains(err->message, "Permission denied")) << err->message;
-    EXPECT_EQ(read_bytes(path("ro/keep.pfm")), "old");
+    EXPECT_EQ(read_file(path("ro/keep.pfm")), "old");
   }
 }
 
