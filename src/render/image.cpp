@@ -42,9 +42,11 @@ Error errno_error(const std::string& path, const char* what, int err) {
 
 // ---- Reading files ---------------------------------------------------------------------------------------------
 
-/// The whole content of a regular file.
+/// The whole content of a regular file. Opened without blocking: opening a FIFO for reading would otherwise wait
+/// for a writer (a --reference given a named pipe would hang), and the type is checked before anything is read.
+/// O_NONBLOCK does not change reads from a regular file.
 Result<std::vector<char>> read_file(const std::string& path) {
-  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);
   if (fd < 0) return errno_error(path, "cannot open for reading", errno);
   struct stat st {};
   if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {

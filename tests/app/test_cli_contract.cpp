@@ -357,6 +357,11 @@ TEST(CliContract, AnOutputThatFailsAtTheEndExitsTwoWithOneLine) {
     EXPECT_NE(r.err.find(target), std::string::npos) << r.err;
     EXPECT_TRUE(load_image(dir / "x.pfm").ok());
   }
+  // The image itself failing the same way.
+  auto r = run_ptview({"--size", "8x8", "--frames", "2", "--out", "/proc/ptview-test.pfm"});
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_EQ(test::count_lines(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("/proc/ptview-test.pfm"), std::string::npos) << r.err;
 }
 
 TEST(CliContract, ProgressLineOnATerminal) {

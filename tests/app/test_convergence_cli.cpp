@@ -50,6 +50,7 @@ TEST(ConvergenceCli, AdaptiveRunStopsWhenConvergedAndWritesMaps) {
   auto j = nlohmann::json::parse(read_file(dir / "s.json"));
   EXPECT_EQ(j["converged_fraction"], 1.0);
   EXPECT_LT(j["spp_max"].get<int>(), 4096);  // ended by convergence, not by --max-spp
+  EXPECT_EQ(j["spp"], j["spp_max"]);         // and in the round the last pixel stopped
   EXPECT_GE(j["spp_min"].get<int>(), 8);
   EXPECT_EQ(j["min_spp"], 8);
   EXPECT_EQ(j["noise_threshold"], 0.3);

@@ -1,17 +1,21 @@
 // Image files and the display transform: tonemap curves, the IEC 61966-2-1 sRGB curve, PNG quantisation, bit-exact
 // PFM/EXR round trips (byte layout checked against the PFM and OpenEXR definitions with files built byte by byte),
 // strict PFM header validation, and write atomicity (no partial or temporary files after any failure).
+#include <fcntl.h>
 #include <gtest/gtest.h>
 #include <stb/stb_image.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <bit>
+#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <future>
 #include <limits>
 #include <map>
 #include <string>
@@ -280,6 +284,7 @@ TEST_F(ImageFiles, MalformedPfmHeadersAreErrorsNamingTheFile) {
       {"truncated", "PF\n2 2\n-1.0\n" + std::string(47, '\0')},
       {"bad_magic", "P6\n1 1\n-1.0\n" + pixel},
       {"magic_not_separated", "PFX\n1 1\n-1.0\n" + pixel},
+      {"magic_runs_into_the_size", "PF1 1\n-1.0\n" + pixel},  // would read as 1x1 without the separator
       {"zero_width", "PF\n0 1\n-1.0\n" + pixel},
       {"zero_height", "PF\n1 0\n-1.0\n" + pixel},
       {"negative_width", "PF\n-1 1\n-1.0\n" + pixel},
@@ -314,6 +319,29 @@ TEST_F(ImageFiles, LoadErrorsNameTheFile) {
   const pt::Result<Image> b = pt::load_image(path("x.png"));
   ASSERT_FALSE(b.ok());
   EXPECT_TRUE(starts_with(b.error(), path("x.png") + ": ")) << b.error();
+}
+
+// Only a regular file is read. A directory is refused by name, and a FIFO (say a --reference given a named pipe) is
+// refused without waiting for a writer: opening one for reading blocks until a writer comes, so the reader opens
+// without blocking and looks at what it opened first. A 20 s watchdog opens the FIFO for writing if a regression
+// makes the load wait on it, so the test fails rather than hangs.
+TEST_F(ImageFiles, DirectoryAndFifoAreRefusedUnread) {
+  const std::string folder = path("folder.pfm");
+  ASSERT_TRUE(fs::create_directory(folder));
+  const pt::Result<Image> d = pt::load_image(folder);
+  ASSERT_FALSE(d.ok());
+  EXPECT_EQ(d.error(), folder + ": not a regular file");
+  const std::string fifo = path("pipe.exr");
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  auto loading = std::async(std::launch::async, [&] { return pt::load_image(fifo); });
+  if (loading.wait_for(std::chrono::seconds(20)) != std::future_status::ready) {
+    ADD_FAILURE() << "the load is waiting on the FIFO";
+    const int writer = ::open(fifo.c_str(), O_WRONLY | O_NONBLOCK);  // let it go: it reads an empty file
+    if (writer >= 0) ::close(writer);
+  }
+  const pt::Result<Image> f = loading.get();
+  ASSERT_FALSE(f.ok());
+  EXPECT_EQ(f.error(), fifo + ": not a regular file");
 }
 
 // ---- EXR ---------------------------------------------------------------------------------------------------------

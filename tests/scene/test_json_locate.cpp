@@ -44,8 +44,30 @@ TEST(JsonLocate, MatchesKeysWrittenWithEscapes) {
   EXPECT_EQ(json_line_of(text, {"a/b"}), 3);
   EXPECT_EQ(json_line_of(text, {"\xF0\x9F\x98\x80"}), 4);  // a surrogate pair
   EXPECT_EQ(json_line_of(text, {"tab\tkey"}), 5);
+  text = "{\"a\": 0,\n\"\\u20ac\": 1}";  // a three-byte character
+  EXPECT_EQ(json_line_of(text, {"\xE2\x82\xAC"}), 2);
   text = "{\n\"two\\nlines\": 1}";
   EXPECT_EQ(json_line_of(text, {"two\nlines"}), 2);
+}
+
+// A path part that reads as a number is an index only into an array: into an object it is a key (a material may be
+// named "0"). An index into an empty array is missing, and the line is then the array's.
+TEST(JsonLocate, NumericKeysOfObjectsAndIndicesPastTheEnd) {
+  std::string text =
+      "{\n"                  // 1
+      "\"m\": {\"1\": 0,\n"  // 2
+      " \"0\": 1},\n"        // 3
+      "\"e\": [\n"           // 4
+      "\n"                   // 5
+      "],\n"                 // 6
+      "\"f\": [1,\n"         // 7
+      " 2\n"                 // 8
+      "]}";
+  EXPECT_EQ(json_line_of(text, {"m", "0"}), 3);
+  EXPECT_EQ(json_line_of(text, {"m", "1"}), 2);
+  EXPECT_EQ(json_line_of(text, {"e", "0"}), 4);
+  EXPECT_EQ(json_line_of(text, {"f", "1"}), 8);
+  EXPECT_EQ(json_line_of(text, {"f", "2"}), 7);
 }
 
 TEST(JsonLocate, CountsLinesInEveryKindOfWhitespace) {

@@ -323,6 +323,15 @@ TEST(Mtl, MappingPrecedence) {
   r.ni = -2.0f;
   EXPECT_FLOAT_EQ(material_from_mtl(r).ior, 1.5f);
   EXPECT_EQ(material_from_mtl(MtlRecord{}).albedo, vec3(0.8f));  // no Kd: default grey
+  // illum 6 alone (no d, no Tr) is glass; a Ks only as bright as Kd is not dominant, even at Ns 1000.
+  MtlRecord six;
+  six.illum = 6;
+  EXPECT_EQ(material_from_mtl(six).type, MaterialType::glass);
+  MtlRecord even;
+  even.kd = vec3(0.5f);
+  even.ks = vec3(0.5f);
+  even.ns = 1000.0f;
+  EXPECT_EQ(material_from_mtl(even).type, MaterialType::diffuse);
 }
 
 TEST(Mtl, ParsesValuesAndWarnsWithLines) {
@@ -347,12 +356,33 @@ TEST(Mtl, ParsesValuesAndWarnsWithLines) {
   EXPECT_TRUE(r->warnings[2].starts_with("x.mtl:3: material 'two words': reflectance above 1")) << r->warnings[2];
 }
 
+// The energy warning names the line that set the reflectance the material uses: Ks for a mirror, Kd otherwise. A
+// glass does not read its Kd, so a bright Kd there is not warned about.
+TEST(Mtl, ReflectanceWarningNamesTheLineOfTheValueUsed) {
+  std::string text =
+      "newmtl mirror\n"  // 1
+      "Kd 0.2\n"         // 2
+      "Ks 1.2 1 1\n"     // 3
+      "illum 3\n"        // 4
+      "newmtl lens\n"    // 5
+      "Kd 2\n"           // 6
+      "illum 7\n"        // 7
+      "newmtl plain\n"   // 8
+      "illum 10\n";      // 9: the largest model number is accepted
+  Result<MtlLibrary> r = parse_mtl(text, "x.mtl");
+  ASSERT_TRUE(r.ok()) << r.error();
+  ASSERT_EQ(r->materials.size(), 3u);
+  ASSERT_EQ(r->warnings.size(), 1u) << (r->warnings.empty() ? "" : r->warnings.back());
+  EXPECT_TRUE(r->warnings[0].starts_with("x.mtl:3: material 'mirror': reflectance above 1")) << r->warnings[0];
+}
+
 TEST(Mtl, ErrorsNameTheirLine) {
   const std::pair<std::string, std::string> cases[] = {
       {"newmtl a\n\nKd 0.5 -0.1 0.5\n", "x.mtl:3: Kd must not be negative"},
       {"newmtl a\nKs 1 2\n", "x.mtl:2: Ks: expected 1 or 3 finite numbers"},
       {"newmtl a\nKe 1 nan 1\n", "x.mtl:2: Ke: expected 1 or 3 finite numbers"},
       {"newmtl a\nillum 2.5\n", "x.mtl:2: illum: expected an integer"},
+      {"newmtl a\nillum 11\n", "x.mtl:2: illum: expected an integer from 0 to 10"},
       {"newmtl a\nNi\n", "x.mtl:2: Ni: expected a finite number"},
       {"newmtl a\nNs 1e99\n", "x.mtl:2: Ns: expected a finite number"},
       {"newmtl\n", "x.mtl:1: newmtl without a name"},
