@@ -309,6 +309,17 @@ TEST_F(ImageFiles, MalformedPfmHeadersAreErrorsNamingTheFile) {
   }
 }
 
+// A header token is read up to 32 bytes: a megabyte of garbage without whitespace after "PF" (a binary file given a
+// .pfm name) gives a one-line error of ordinary length, not one that quotes all of it.
+TEST_F(ImageFiles, AnOverlongPfmHeaderTokenIsNotQuotedWhole) {
+  const std::string p = path("long.pfm");
+  write_bytes(p, "PF\n" + std::string(1 << 20, '7') + " 1\n-1.0\n" + std::string(12, '\0'));
+  const pt::Result<Image> img = pt::load_image(p);
+  ASSERT_FALSE(img.ok());
+  EXPECT_TRUE(starts_with(img.error(), p + ": missing or invalid PFM size")) << img.error().substr(0, 200);
+  EXPECT_LT(img.error().size(), p.size() + 200);
+}
+
 TEST_F(ImageFiles, LoadErrorsNameTheFile) {
   const std::string missing = path("missing.pfm");
   const pt::Result<Image> a = pt::load_image(missing);
