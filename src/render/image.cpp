@@ -3,10 +3,6 @@
 /// place, so a failure at any stage leaves neither a partial file nor a temporary one behind.
 #include "render/image.h"
 
-#include <fcntl.h>
-#include <sys/stat.h>
-#include <unistd.h>
-
 #include <ImfChannelList.h>
 #include <ImfFrameBuffer.h>
 #include <ImfHeader.h>
@@ -18,15 +14,16 @@
 
 #include <algorithm>
 #include <bit>
-#include <cerrno>
 #include <charconv>
 #include <cmath>
 #include <cstring>
 #include <exception>
+#include <limits>
 #include <string_view>
 
 #include "core/atomic_file.h"
 #include "core/file_name.h"
+#include "core/read_file.h"
 
 namespace pt {
 
@@ -36,40 +33,6 @@ namespace {
 constexpr int kMaxImageDimension = 65536;
 
 Error file_error(const std::string& path, const std::string& reason) { return Error{path + ": " + reason}; }
-Error errno_error(const std::string& path, const char* what, int err) {
-  return file_error(path, std::string(what) + ": " + std::strerror(err));
-}
-
-// ---- Reading files ---------------------------------------------------------------------------------------------
-
-/// The whole content of a regular file. Opened without blocking: opening a FIFO for reading would otherwise wait
-/// for a writer (a --reference given a named pipe would hang), and the type is checked before anything is read.
-/// O_NONBLOCK does not change reads from a regular file.
-Result<std::vector<char>> read_file(const std::string& path) {
-  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);
-  if (fd < 0) return errno_error(path, "cannot open for reading", errno);
-  struct stat st {};
-  if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
-    ::close(fd);
-    return file_error(path, "not a regular file");
-  }
-  std::vector<char> bytes(size_t(st.st_size));
-  size_t done = 0;
-  while (done < bytes.size()) {
-    const ssize_t n = ::read(fd, bytes.data() + done, bytes.size() - done);
-    if (n < 0 && errno == EINTR) continue;
-    if (n < 0) {
-      const int err = errno;
-      ::close(fd);
-      return errno_error(path, "read failed", err);
-    }
-    if (n == 0) break;  // the file shrank meanwhile
-    done += size_t(n);
-  }
-  ::close(fd);
-  bytes.resize(done);
-  return bytes;
-}
 
 // ---- PFM (Portable Float Map; Debevec's format, as read by pbrt-v4 Image::ReadPFM) -------------------------------
 
@@ -100,7 +63,7 @@ bool is_pfm_space(char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\
 /// Strict PFM reader: "PF" (RGB) or "Pf" (grey), whitespace-separated positive width and height, a finite nonzero
 /// scale (negative: little-endian data, positive: big-endian; |scale| multiplies the samples, as in pbrt-v4), one
 /// whitespace byte, then bottom-to-top rows. Greyscale is expanded to RGB; rows are flipped to top-first.
-Result<Image> decode_pfm(const std::string& path, const std::vector<char>& bytes) {
+Result<Image> decode_pfm(const std::string& path, const std::string& bytes) {
   const size_t n = bytes.size();
   if (n < 3 || bytes[0] != 'P' || (bytes[1] != 'F' && bytes[1] != 'f') || !is_pfm_space(bytes[2]))
     return file_error(path, "not a PFM file (expected \"PF\" or \"Pf\" magic)");
@@ -180,7 +143,7 @@ class MemoryOStream final : public Imf::OStream {
 
 class MemoryIStream final : public Imf::IStream {
  public:
-  MemoryIStream(const std::string& name, const std::vector<char>& bytes) : Imf::IStream(name.c_str()), bytes_(bytes) {}
+  MemoryIStream(const std::string& name, const std::string& bytes) : Imf::IStream(name.c_str()), bytes_(bytes) {}
   bool read(char c[], int n) override {
     if (n < 0 || pos_ > bytes_.size() || bytes_.size() - pos_ < size_t(n))
       throw Iex::InputExc("unexpected end of file");
@@ -192,7 +155,7 @@ class MemoryIStream final : public Imf::IStream {
   void seekg(uint64_t pos) override { pos_ = size_t(pos); }
 
  private:
-  const std::vector<char>& bytes_;
+  const std::string& bytes_;
   size_t pos_ = 0;
 };
 
@@ -221,7 +184,7 @@ Result<std::string> encode_exr(const std::string& path, const Image& image) {
 }
 
 /// Reads R, G, B (a missing channel reads as 0; a Y-only file becomes grey) over the data window.
-Result<Image> decode_exr(const std::string& path, const std::vector<char>& bytes) {
+Result<Image> decode_exr(const std::string& path, const std::string& bytes) {
   try {
     MemoryIStream stream(path, bytes);
     Imf::InputFile file(stream, 1);
@@ -332,7 +295,7 @@ Result<Image> load_image(const std::string& path) {
   const std::string ext = lower_extension(path);
   if (!is_float_image_extension(path))
     return file_error(path, "cannot load \"" + ext + "\" images (expected .pfm or .exr)");
-  Result<std::vector<char>> bytes = read_file(path);
+  Result<std::string> bytes = read_whole_file(path, std::numeric_limits<uint64_t>::max());
   if (!bytes) return Error{bytes.error()};
   return ext == ".pfm" ? decode_pfm(path, *bytes) : decode_exr(path, *bytes);
 }

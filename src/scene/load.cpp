@@ -5,9 +5,9 @@
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
 
 #include "core/file_name.h"
+#include "core/read_file.h"
 #include "scene/builtin_assets.h"
 #include "scene/load.h"
 #include "scene/load_internal.h"
@@ -65,22 +65,7 @@ bool same_parameters(const Material& a, const Material& b) {
 }  // namespace
 
 Result<std::string> read_text_file(const std::string& path) {
-  struct stat st;
-  if (::stat(path.c_str(), &st) != 0) return Error{path + ": cannot open: " + std::strerror(errno)};
-  if (S_ISDIR(st.st_mode)) return Error{path + ": cannot open: is a directory"};
-  if (!S_ISREG(st.st_mode)) return Error{path + ": cannot open: not a regular file"};
-  if (st.st_size > (off_t(1) << 31)) return Error{path + ": cannot open: larger than 2 GiB"};
-  std::ifstream f(path, std::ios::binary);
-  if (!f) return Error{path + ": cannot open: " + std::strerror(errno)};
-  try {
-    std::string text(size_t(st.st_size), '\0');
-    f.read(text.data(), std::streamsize(text.size()));
-    if (f.bad()) return Error{path + ": read error"};
-    text.resize(size_t(f.gcount()));  // the file may have shrunk since stat
-    return text;
-  } catch (const std::bad_alloc&) {
-    return Error{path + ": out of memory"};
-  }
+  return read_whole_file(path, uint64_t(1) << 31);  // 2 GiB: far beyond any scene we can hold, short of int overflow
 }
 
 uint32_t add_material(Scene& scene, Material m) {

@@ -341,7 +341,7 @@ TEST_F(ImageFiles, DirectoryAndFifoAreRefusedUnread) {
   ASSERT_TRUE(fs::create_directory(folder));
   const pt::Result<Image> d = pt::load_image(folder);
   ASSERT_FALSE(d.ok());
-  EXPECT_EQ(d.error(), folder + ": not a regular file");
+  EXPECT_EQ(d.error(), folder + ": cannot open: is a directory");
   const std::string fifo = path("pipe.exr");
   ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
   auto loading = std::async(std::launch::async, [&] { return pt::load_image(fifo); });
@@ -352,7 +352,7 @@ TEST_F(ImageFiles, DirectoryAndFifoAreRefusedUnread) {
   }
   const pt::Result<Image> f = loading.get();
   ASSERT_FALSE(f.ok());
-  EXPECT_EQ(f.error(), fifo + ": not a regular file");
+  EXPECT_EQ(f.error(), fifo + ": cannot open: not a regular file");
 }
 
 // ---- EXR ---------------------------------------------------------------------------------------------------------
