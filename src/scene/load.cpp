@@ -65,7 +65,7 @@ bool same_parameters(const Material& a, const Material& b) {
 }  // namespace
 
 Result<std::string> read_text_file(const std::string& path) {
-  return read_whole_file(path, uint64_t(1) << 31);  // 2 GiB: far beyond any scene we can hold, short of int overflow
+  return read_whole_file(path, uint64_t(1) << 31);  // the 2 GiB cap load_internal.h documents
 }
 
 uint32_t add_material(Scene& scene, Material m) {
