@@ -69,7 +69,7 @@ bool file_exists(const std::string& path, void*) {
   return ::stat(path.c_str(), &st) == 0 && S_ISREG(st.st_mode);
 }
 std::string expand_path(const std::string& path, void*) { return path; }
-bool read_whole_file(std::vector<unsigned char>* out, std::string* err, const std::string& path, void*) {
+bool read_file_callback(std::vector<unsigned char>* out, std::string* err, const std::string& path, void*) {
   Result<std::string> text = read_text_file(path);
   if (!text) {
     if (err) *err += text.error() + "\n";
@@ -625,7 +625,7 @@ GltfData read_model(const std::string& path, bool use_materials) {
   tinygltf::TinyGLTF loader;
   ImageMeans means;
   loader.SetImageLoader(&decode_image_mean, &means);
-  loader.SetFsCallbacks({&file_exists, &expand_path, &read_whole_file, &write_whole_file, nullptr});
+  loader.SetFsCallbacks({&file_exists, &expand_path, &read_file_callback, &write_whole_file, nullptr});
   std::string err, warn;
   std::string dir = std::filesystem::path(path).parent_path().string();
   bool ok = false;

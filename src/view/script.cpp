@@ -3,11 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <limits>
 #include <sstream>
 #include <variant>
 
+#include "core/read_file.h"
 #include "render/names.h"
 #include "view/camera_control.h"
 #include "view/viewer_state.h"
@@ -430,11 +430,10 @@ Result<std::vector<ScriptCommand>> parse_script(std::string_view text, const std
 }
 
 Result<std::vector<ScriptCommand>> load_script(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return Error{path + ": cannot open script"};
-  std::stringstream text;
-  text << in.rdbuf();
-  return parse_script(text.str(), path);
+  // A script is a few lines; the cap keeps a wrong path (a disk image, say) from filling memory.
+  Result<std::string> text = read_whole_file(path, uint64_t(1) << 30);
+  if (!text) return Error{text.error()};
+  return parse_script(*text, path);
 }
 
 void ScriptRun::step(ViewerState& st) {

@@ -2,6 +2,9 @@
 // and refits counted), the preview frame after a restart, the old scene staying live during a load, the light
 // model (which lights, their placement, resizing), and parse_script on every malformed form.
 #include <gtest/gtest.h>
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include <array>
 #include <chrono>
@@ -9,6 +12,7 @@
 #include <filesystem>
 #include <limits>
 #include <fstream>
+#include <future>
 #include <thread>
 
 #include <nlohmann/json.hpp>
@@ -839,6 +843,30 @@ ScriptRun run_script(ViewerState& st, const std::string& text) {
   }
   EXPECT_TRUE(run.done()) << "timed out at command " << run.next;
   return run;
+}
+
+// A script file goes through the one file reader: its text is parsed under its path, and a missing file, a folder or
+// a FIFO is refused with the reason, the FIFO unread (a 20 s watchdog writes to it if the load waits on it).
+TEST(Script, AScriptFileIsReadOrRefusedWithItsReason) {
+  TempDir dir;
+  const std::string file = dir.write("s.txt", "wait-frames 1\nbogus\n");
+  Result<std::vector<ScriptCommand>> r = load_script(file);
+  ASSERT_FALSE(r.ok());
+  EXPECT_TRUE(r.error().starts_with(file + ":2: ")) << r.error();
+  ASSERT_TRUE(load_script(dir.write("ok.txt", "wait-frames 1\n")).ok());
+  EXPECT_EQ(load_script(dir / "none.txt").error(), (dir / "none.txt") + ": cannot open: No such file or directory");
+  EXPECT_EQ(load_script(dir.path.string()).error(), dir.path.string() + ": cannot open: is a directory");
+  const std::string fifo = dir / "pipe.txt";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  auto loading = std::async(std::launch::async, [&] { return load_script(fifo); });
+  if (loading.wait_for(std::chrono::seconds(20)) != std::future_status::ready) {
+    ADD_FAILURE() << "the load is waiting on the FIFO";
+    const int writer = ::open(fifo.c_str(), O_WRONLY | O_NONBLOCK);  // let it go: it reads an empty file
+    if (writer >= 0) ::close(writer);
+  }
+  const Result<std::vector<ScriptCommand>> f = loading.get();
+  ASSERT_FALSE(f.ok());
+  EXPECT_EQ(f.error(), fifo + ": cannot open: not a regular file");
 }
 
 TEST(Script, CommandsDoWhatTheReadmeSays) {
