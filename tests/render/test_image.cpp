@@ -1,7 +1,6 @@
 // Image files and the display transform: tonemap curves, the IEC 61966-2-1 sRGB curve, PNG quantisation, bit-exact
 // PFM/EXR round trips (byte layout checked against the PFM and OpenEXR definitions with files built byte by byte),
 // strict PFM header validation, and write atomicity (no partial or temporary files after any failure).
-#include <fcntl.h>
 #include <gtest/gtest.h>
 #include <stb/stb_image.h>
 #include <sys/stat.h>
@@ -9,19 +8,18 @@
 
 #include <algorithm>
 #include <bit>
-#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <future>
 #include <limits>
 #include <map>
 #include <string>
 #include <thread>
 #include <vector>
 
+#include "fifo_watchdog.h"
 #include "render/image.h"
 #include "temp_dir.h"
 
@@ -344,13 +342,7 @@ TEST_F(ImageFiles, DirectoryAndFifoAreRefusedUnread) {
   EXPECT_EQ(d.error(), folder + ": cannot open: is a directory");
   const std::string fifo = path("pipe.exr");
   ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
-  auto loading = std::async(std::launch::async, [&] { return pt::load_image(fifo); });
-  if (loading.wait_for(std::chrono::seconds(20)) != std::future_status::ready) {
-    ADD_FAILURE() << "the load is waiting on the FIFO";
-    const int writer = ::open(fifo.c_str(), O_WRONLY | O_NONBLOCK);  // let it go: it reads an empty file
-    if (writer >= 0) ::close(writer);
-  }
-  const pt::Result<Image> f = loading.get();
+  const pt::Result<Image> f = pt::test::load_with_fifo_watchdog(fifo, [&] { return pt::load_image(fifo); });
   ASSERT_FALSE(f.ok());
   EXPECT_EQ(f.error(), fifo + ": cannot open: not a regular file");
 }

@@ -1,14 +1,10 @@
 // Loading entry points and the built-in scenes: every asset parses with its camera and light, its walls face the
 // inside, its objects stand on the floor inside the box without touching walls or each other, its blocks are
 // closed outward, and the large-mesh scene is large.
-#include <fcntl.h>
 #include <gtest/gtest.h>
 #include <sys/stat.h>
-#include <unistd.h>
 
-#include <chrono>
-#include <future>
-
+#include "fifo_watchdog.h"
 #include "scene/builtin_assets.h"
 #include "scene/load.h"
 #include "scene/load_internal.h"
@@ -209,13 +205,7 @@ TEST(Load, WhatIsNotARegularFileIsRefusedUnread) {
   test::TempDir dir;
   const std::string fifo = dir / "pipe.obj";
   ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
-  auto loading = std::async(std::launch::async, [&] { return load_scene(fifo); });
-  if (loading.wait_for(std::chrono::seconds(20)) != std::future_status::ready) {
-    ADD_FAILURE() << "the load is waiting on the FIFO";
-    const int writer = ::open(fifo.c_str(), O_WRONLY | O_NONBLOCK);  // let it go: it reads an empty file
-    if (writer >= 0) ::close(writer);
-  }
-  Result<Scene> r = loading.get();
+  Result<Scene> r = test::load_with_fifo_watchdog(fifo, [&] { return load_scene(fifo); });
   ASSERT_FALSE(r.ok());
   EXPECT_EQ(r.error(), fifo + ": cannot open: not a regular file");
 }

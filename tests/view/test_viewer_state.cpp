@@ -2,9 +2,7 @@
 // and refits counted), the preview frame after a restart, the old scene staying live during a load, the light
 // model (which lights, their placement, resizing), and parse_script on every malformed form.
 #include <gtest/gtest.h>
-#include <fcntl.h>
 #include <sys/stat.h>
-#include <unistd.h>
 
 #include <array>
 #include <chrono>
@@ -12,11 +10,11 @@
 #include <filesystem>
 #include <limits>
 #include <fstream>
-#include <future>
 #include <thread>
 
 #include <nlohmann/json.hpp>
 
+#include "fifo_watchdog.h"
 #include "render/auto_light_sampling.h"
 #include "scene/builtin_assets.h"
 #include "scene/load.h"
@@ -858,13 +856,7 @@ TEST(Script, AScriptFileIsReadOrRefusedWithItsReason) {
   EXPECT_EQ(load_script(dir.path.string()).error(), dir.path.string() + ": cannot open: is a directory");
   const std::string fifo = dir / "pipe.txt";
   ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
-  auto loading = std::async(std::launch::async, [&] { return load_script(fifo); });
-  if (loading.wait_for(std::chrono::seconds(20)) != std::future_status::ready) {
-    ADD_FAILURE() << "the load is waiting on the FIFO";
-    const int writer = ::open(fifo.c_str(), O_WRONLY | O_NONBLOCK);  // let it go: it reads an empty file
-    if (writer >= 0) ::close(writer);
-  }
-  const Result<std::vector<ScriptCommand>> f = loading.get();
+  const Result<std::vector<ScriptCommand>> f = test::load_with_fifo_watchdog(fifo, [&] { return load_script(fifo); });
   ASSERT_FALSE(f.ok());
   EXPECT_EQ(f.error(), fifo + ": cannot open: not a regular file");
 }
