@@ -163,7 +163,6 @@ vec3 trace_path_impl(const RenderScene& scene, const RenderParams& params, float
     eta_scale *= bs.eta_scale;
     prev = {sh.sp.p, bs.pdf, bs.delta, mode};
     ray = spawn_ray(sh.sp, bs.wi);
-    ++c.bounce_rays;
 
     // Russian roulette on the throughput with the eta^2 scaling undone (pbrt-v4 section 13.4.4). Without glass
     // eta_scale stays exactly 1, and the division, on the loop's critical path, is skipped.
@@ -179,6 +178,7 @@ vec3 trace_path_impl(const RenderScene& scene, const RenderParams& params, float
         beta *= 1.0f / survive;  // one division rather than one per channel
       }
     }
+    ++c.bounce_rays;  // counted here, where it is sure to be traced: not for a path that roulette just ended
   }
   return radiance;
 }

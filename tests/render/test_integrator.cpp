@@ -589,6 +589,56 @@ TEST(NonFinite, PassesDrawTheIndexAfterADroppedSample) {
   EXPECT_EQ(passes.taken, std::vector<uint32_t>(64, 16u));
 }
 
+// The automatic integrator is MIS only where lights are sampled by area: there BSDF sampling covers what area
+// sampling does badly (a light seen at a grazing angle or from close by). Solid-angle sampling (the automatic mode
+// uses it at the first vertex) has no such weakness, and NEE skips MIS's second light pdf per hit.
+TEST(Integrators, AutomaticResolvesToMisOnlyUnderAreaSampling) {
+  EXPECT_EQ(resolve_integrator(IntegratorKind::automatic, LightSampling::area), IntegratorKind::mis);
+  EXPECT_EQ(resolve_integrator(IntegratorKind::automatic, LightSampling::solid_angle), IntegratorKind::nee);
+  EXPECT_EQ(resolve_integrator(IntegratorKind::automatic, LightSampling::automatic), IntegratorKind::nee);
+  for (IntegratorKind k : {IntegratorKind::mis, IntegratorKind::nee, IntegratorKind::bsdf})
+    for (LightSampling m : kModes) EXPECT_EQ(resolve_integrator(k, m), k) << config_name(k, m);
+}
+
+// The counters account for every path vertex: each closest-hit ray either escapes, ends the path at the maximum
+// depth, or reaches a surface that samples the lights (a shadow ray, or one of the reasons none was cast) or skips
+// light sampling because it is a mirror or glass. Under BSDF sampling nothing samples lights.
+TEST(Counters, EveryVertexIsAccountedFor) {
+  for (bool delta : {true, false}) {
+    Scene s = test::make_test_cornell();
+    if (!delta)
+      for (Material& m : s.materials)
+        if (m.type != MaterialType::diffuse) m = diffuse(vec3(0.6f, 0.5f, 0.4f));
+    const RenderScene rs = make_render_scene(s);
+    ASSERT_EQ(rs.features.has_delta, delta);
+    for (IntegratorKind k : kIntegrators) {
+      RenderParams p;
+      p.width = p.height = 24;
+      p.max_depth = 6;
+      p.integrator = k;
+      Renderer renderer(2);
+      Film film(p.width, p.height);
+      RenderCounters c;
+      for (uint32_t f = 0; f < 2; ++f) renderer.render_frame(rs, p, film, f, c);
+      const std::string what = std::string(name_of(k)) + (delta ? " with mirrors and glass" : " diffuse only");
+      const uint64_t hits = c.camera_rays + c.bounce_rays - c.paths_escaped - c.paths_ended_max_depth;
+      const uint64_t light_sampled = c.shadow_rays + c.shadow_skipped_backfacing + c.shadow_skipped_zero_bsdf;
+      EXPECT_GT(c.paths_ended_max_depth, 0u) << what;
+      if (k == IntegratorKind::bsdf) {
+        EXPECT_EQ(light_sampled + c.light_sampling_skipped_specular, 0u) << what;
+        continue;
+      }
+      EXPECT_EQ(light_sampled + c.light_sampling_skipped_specular, hits) << what;
+      EXPECT_GT(light_sampled, 0u) << what;
+      if (delta) {
+        EXPECT_GT(c.light_sampling_skipped_specular, 0u) << what;
+      } else {
+        EXPECT_EQ(c.light_sampling_skipped_specular, 0u) << what;
+      }
+    }
+  }
+}
+
 /// RenderScene::tri_unlit_sides only skips light samples that add nothing: the same scene renders bit-identically
 /// with the marks cleared, with the same counters. A box in the room has sides facing away from the light (marked),
 /// and the room's walls are marked on their outer sides only.
