@@ -690,6 +690,24 @@ struct ReferenceBuilder {
   }
 };
 
+// The full-sweep builder (bvh_sweep.cpp) is the reference the binned one is measured against (here, in test_bvh8
+// and in bench_raycast), so it must make a sound tree too: on scattered triangles, and on 1000 copies of one box,
+// where every split costs the same, the sweep takes the first (one box peeled off per level), and only its depth
+// bound keeps the tree within the traversal stack (check_structure also compares the depth the build records).
+TEST(Bvh, TheSweepBuildIsSoundAndBoundedInDepth) {
+  const std::vector<std::vector<AABB>> cases = {prim_boxes(uniform_soup(2000, 7)),
+                                                std::vector<AABB>(1000, AABB{vec3(0.0f), vec3(1.0f)})};
+  for (const auto& boxes : cases) {
+    for (int leaf : {1, 8}) {
+      BvhBuildOptions o;
+      o.max_leaf_size = leaf;
+      const Bvh bvh = build_bvh_sweep(boxes, box_centers(boxes), o);
+      check_structure(bvh, boxes, leaf);
+      EXPECT_GT(bvh.depth, 8);
+    }
+  }
+}
+
 TEST(Bvh, BinnedSahIsWithinTenPercentOfFullSweepAndBeatsMedian) {
   for (const Soup& s : {uniform_soup(5000, 42), mixed_soup(5000, 0, 43)}) {
     std::vector<AABB> boxes = prim_boxes(s);

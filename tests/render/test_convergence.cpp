@@ -111,6 +111,25 @@ TEST(Estimator, RelativeScaleIgnoresThePixelsOwnFirefly) {
   EXPECT_NEAR(e.scale.x, 0.1, 1e-6);
 }
 
+// The neighbours are the pixels around p, clipped at the film's edges, that have samples: one with none (not yet
+// reached by an adaptive pass, or a film just reset) has no mean to average in, and counting it as black would
+// pull the scale down. Pixel k holds two samples of k + 1 (one per half), except the dark centre and the empty
+// corner 8.
+TEST(Estimator, RelativeScaleAveragesTheNeighboursThatHaveSamples) {
+  Film film(3, 3);
+  for (size_t p = 0; p < 8; ++p) {
+    film.add(p, vec3(p == 4 ? 0.01f : float(p + 1)), 0);
+    film.add(p, vec3(p == 4 ? 0.02f : float(p + 1)), 1);
+  }
+  PixelEstimate e;
+  ASSERT_TRUE(pixel_estimate(film, 4, e));
+  EXPECT_NEAR(e.scale.y, (1.0 + 2 + 3 + 4 + 6 + 7 + 8) / 7.0, 1e-12);  // all but the empty corner
+  ASSERT_TRUE(pixel_estimate(film, 0, e));
+  const double centre = (double(0.01f) + double(0.02f)) / 2.0;
+  EXPECT_NEAR(e.scale.y, (2.0 + 4.0 + centre) / 3.0, 1e-12);  // the corner's three: right, below, diagonal
+  EXPECT_FALSE(pixel_estimate(film, 8, e));
+}
+
 /// A diffuse floor lit by a rectangle light, seen with the black sky above the horizon: noisy pixels next to
 /// pixels with no variance at all.
 Scene make_floor_scene() {

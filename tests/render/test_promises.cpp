@@ -343,6 +343,10 @@ TEST(Kernels, SpecialisedKernelsEqualTheGenericKernel) {
         p.max_depth = 8;
         p.integrator = k;
         p.sampler = SamplerKind::sobol;
+        // The stats JSON's "kernel" names the loop that ran.
+        const char* expected = delta ? (background ? "all-materials+background" : "all-materials")
+                                     : (background ? "diffuse-only+background" : "diffuse-only");
+        EXPECT_STREQ(kernel_name(rs, p), expected);
         Film special = render(rs, p);
         p.force_generic_kernel = true;
         ASSERT_STREQ(kernel_name(rs, p), "generic");

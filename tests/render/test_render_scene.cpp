@@ -12,6 +12,7 @@
 #include "core/rng.h"
 #include "core/sampling.h"
 #include "render/render_scene.h"
+#include "render/renderer.h"
 #include "render/scene_builders.h"
 
 namespace pt {
@@ -192,6 +193,49 @@ TEST(RenderGeometry, NormalsThatAreNotFiniteAreDropped) {
   for (uint32_t t = 0; t < geo->triangle_count(); ++t) {
     EXPECT_TRUE(geo->tri_shading[t].valid_ng) << "triangle " << t;
     EXPECT_EQ(geo->tri_shading[t].has_normals, t < geo->quad_first_triangle) << "triangle " << t;
+  }
+}
+
+// OBJ and glTF files may give normals of any length (a vn line is not required to be unit); the renderer interpolates
+// the corners' normals, so each must be made unit first, or a long one would pull the interpolated direction toward
+// itself. Scaled by a different factor at each corner, the normals give the unit ones of the pyramid.
+TEST(RenderGeometry, ShadingNormalsAreUnitWhateverLengthTheSceneGivesThem) {
+  Scene s = pyramid_scene();
+  const auto unit = make_render_geometry(s, {});
+  const float factors[] = {3.0f, 0.25f, 7.0f, 1e-3f, 100.0f};
+  for (size_t i = 0; i < s.meshes[0].normals.size(); ++i) s.meshes[0].normals[i] *= factors[i];
+  const auto geo = make_render_geometry(s, {});
+  ASSERT_EQ(geo->tri_normals.size(), unit->tri_normals.size());
+  for (size_t i = 0; i < 3 * size_t(geo->quad_first_triangle); ++i) {
+    EXPECT_NEAR(glm::length(geo->tri_normals[i]), 1.0f, 1e-6f) << "corner " << i;
+    for (int k = 0; k < 3; ++k) EXPECT_NEAR(geo->tri_normals[i][k], unit->tri_normals[i][k], 1e-6f) << "corner " << i;
+  }
+}
+
+// An emissive triangle with no area has no power: it is not put in the light list (light sampling would choose it
+// with probability 0 and divide by that), and a scene whose emitters all lack area has no light to sample. Its
+// emission still counts where a BSDF-sampled path hits it, which a zero-area triangle never is.
+TEST(RenderScene, AnEmitterWithNoAreaIsNotALight) {
+  for (bool with_ceiling_light : {true, false}) {
+    Scene s = test::make_test_cornell();
+    const uint32_t light = s.quads.back().material;
+    if (!with_ceiling_light) s.quads.back().material = 0;
+    Mesh m;
+    m.positions = {vec3(-0.5f, 1.0f, 0.0f), vec3(0.0f, 1.0f, 0.0f), vec3(0.5f, 1.0f, 0.0f)};  // on one line
+    m.indices = {uvec3(0, 1, 2)};
+    m.materials = {light};
+    s.meshes.push_back(m);
+    const RenderScene rs = make_render_scene(s);
+    EXPECT_EQ(rs.lights.lights.size(), with_ceiling_light ? 1u : 0u);
+    EXPECT_EQ(rs.tri_light[0], -1) << "the mesh's triangle comes first";
+    RenderParams p;
+    p.width = p.height = 16;
+    p.max_depth = 4;
+    Renderer renderer(2);
+    Film film(p.width, p.height);
+    RenderCounters c;
+    renderer.render_frame(rs, p, film, 0, c);
+    EXPECT_EQ(c.nonfinite_samples, 0u);
   }
 }
 

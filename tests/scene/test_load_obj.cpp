@@ -468,6 +468,31 @@ TEST(Polygon, WorksInAnyPlaneAndFallsBackToAFan) {
   tris.clear();
   triangulate_polygon(line, tris);
   EXPECT_EQ(tris.size(), 3u);
+  // Self-intersecting: a square with a loop out past its corner (0, 4). Clipping takes two ears and then finds none;
+  // the whole polygon is then fanned, and the two ears are not kept beside the fan.
+  std::vector<vec3> loop = {{0, 0, 0}, {4, 0, 0}, {4, 4, 0}, {0, 4, 0}, {6, 6, 0}, {6, 5, 0}};
+  tris.clear();
+  triangulate_polygon(loop, tris);
+  std::vector<uvec3> fan = {{0, 1, 2}, {0, 2, 3}, {0, 3, 4}, {0, 4, 5}};
+  EXPECT_EQ(tris, fan);
+}
+
+// Both diagonals of a convex quad are inside it; the shorter one gives the better-shaped pair (a long thin rhombus
+// split along its long diagonal gives two slivers).
+TEST(Polygon, AConvexQuadSplitsAlongItsShorterDiagonal) {
+  std::vector<vec3> rhombus = {{-5, 0, 0}, {0, -1, 0}, {5, 0, 0}, {0, 1, 0}};
+  for (int start = 0; start < 2; ++start) {
+    std::vector<uvec3> tris;
+    triangulate_polygon(rhombus, tris);
+    ASSERT_EQ(tris.size(), 2u);
+    // The short diagonal joins the corners at y = +-1: both triangles have both of them.
+    for (uvec3 t : tris) {
+      int on_short = 0;
+      for (uint32_t i : {t.x, t.y, t.z}) on_short += std::abs(rhombus[i].y) == 1.0f;
+      EXPECT_EQ(on_short, 2) << "start " << start;
+    }
+    std::rotate(rhombus.begin(), rhombus.begin() + 1, rhombus.end());
+  }
 }
 
 TEST(LoadObj, BunnyLoadsWhenPresent) {
