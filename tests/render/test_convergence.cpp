@@ -111,9 +111,9 @@ TEST(Estimator, RelativeScaleIgnoresThePixelsOwnFirefly) {
   EXPECT_NEAR(e.scale.x, 0.1, 1e-6);
 }
 
-// The neighbours are the pixels around p, clipped at the film's edges, that have samples: one with none (not yet
-// reached by an adaptive pass, or a film just reset) has no mean to average in, and counting it as black would
-// pull the scale down. Pixel k holds two samples of k + 1 (one per half), except the dark centre and the empty
+// The neighbours are the pixels around p, clipped at the film's edges, that have samples: one with none (every
+// sample it drew was non-finite, and dropped) has no mean to average in, and counting it as black would pull the
+// scale down. Pixel k holds two samples of k + 1 (one per half), except the dark centre and the empty
 // corner 8.
 TEST(Estimator, RelativeScaleAveragesTheNeighboursThatHaveSamples) {
   Film film(3, 3);

@@ -212,9 +212,9 @@ TEST(RenderGeometry, ShadingNormalsAreUnitWhateverLengthTheSceneGivesThem) {
   }
 }
 
-// An emissive triangle with no area has no power: it is not put in the light list (light sampling would choose it
-// with probability 0 and divide by that), and a scene whose emitters all lack area has no light to sample. Its
-// emission still counts where a BSDF-sampled path hits it, which a zero-area triangle never is.
+// An emissive triangle with no area has no power: it is not put in the light list, where light sampling would never
+// choose it, and a scene whose emitters all lack area has no light to sample (no shadow rays at all). Its emission
+// would still count where a BSDF-sampled path hit it, which a zero-area triangle never is.
 TEST(RenderScene, AnEmitterWithNoAreaIsNotALight) {
   for (bool with_ceiling_light : {true, false}) {
     Scene s = test::make_test_cornell();
