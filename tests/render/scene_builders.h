@@ -25,6 +25,13 @@ inline Material mirror(vec3 albedo) {
   return m;
 }
 
+/// Every mirror and glass of `s` made diffuse with `albedo` (lights are diffuse and stay): the scene with no delta
+/// material, for the diffuse-only path kernel or a low noise floor.
+inline void make_diffuse_only(Scene& s, vec3 albedo) {
+  for (Material& m : s.materials)
+    if (m.type != MaterialType::diffuse) m = diffuse(albedo);
+}
+
 /// Axis-aligned box [lo, hi] made of 6 quads whose front faces point inward (or outward).
 inline void add_box(Scene& s, vec3 lo, vec3 hi, uint32_t material, bool inward) {
   vec3 d = hi - lo;

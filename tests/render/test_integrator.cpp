@@ -604,11 +604,10 @@ TEST(Integrators, AutomaticResolvesToMisOnlyUnderAreaSampling) {
 // depth, or reaches a surface that samples the lights (a shadow ray, or one of the reasons none was cast) or skips
 // light sampling because it is a mirror or glass. Under BSDF sampling nothing samples lights.
 TEST(Counters, EveryVertexIsAccountedFor) {
+  Renderer renderer(2);
   for (bool delta : {true, false}) {
     Scene s = test::make_test_cornell();
-    if (!delta)
-      for (Material& m : s.materials)
-        if (m.type != MaterialType::diffuse) m = diffuse(vec3(0.6f, 0.5f, 0.4f));
+    if (!delta) test::make_diffuse_only(s, vec3(0.6f, 0.5f, 0.4f));
     const RenderScene rs = make_render_scene(s);
     ASSERT_EQ(rs.features.has_delta, delta);
     for (IntegratorKind k : kIntegrators) {
@@ -616,7 +615,6 @@ TEST(Counters, EveryVertexIsAccountedFor) {
       p.width = p.height = 24;
       p.max_depth = 6;
       p.integrator = k;
-      Renderer renderer(2);
       Film film(p.width, p.height);
       RenderCounters c;
       for (uint32_t f = 0; f < 2; ++f) renderer.render_frame(rs, p, film, f, c);

@@ -325,9 +325,7 @@ TEST(Kernels, SpecialisedKernelsEqualTheGenericKernel) {
   for (bool delta : {false, true})
     for (bool background : {false, true}) {
       Scene s = test::make_test_cornell();
-      if (!delta)
-        for (Material& m : s.materials)
-          if (m.type != MaterialType::diffuse) m = diffuse(vec3(0.6f, 0.5f, 0.4f));
+      if (!delta) test::make_diffuse_only(s, vec3(0.6f, 0.5f, 0.4f));
       if (background) {
         s.background = vec3(0.3f, 0.4f, 0.5f);
         s.quads.erase(s.quads.begin() + 5);  // open the ceiling so the background is seen

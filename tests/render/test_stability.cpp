@@ -87,8 +87,7 @@ struct Case {
 TEST(Stability, ScaleAndDistanceFromOriginDoNotChangeTheImage) {
   // Diffuse only, so the noise floor is low and a leak or acne stands out.
   Scene base = test::make_test_cornell();
-  for (Material& m : base.materials)
-    if (m.type != MaterialType::diffuse) m = test::diffuse(vec3(0.7f));
+  test::make_diffuse_only(base, vec3(0.7f));
   Image ref = render(base);
   double ref_mean = mean_luminance(ref);
   ASSERT_GT(ref_mean, 0.05);
