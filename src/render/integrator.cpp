@@ -154,10 +154,14 @@ vec3 trace_path_impl(const RenderScene& scene, const RenderParams& params, float
     }
 
     BsdfSample bs;
-    if constexpr (kDelta) {
-      if (!sample_bsdf(m, sc, vs.lobe, vs.direction, bs)) break;
-    } else {
-      if (!sample_diffuse(m, sc, vs.direction, bs)) break;
+    bool sampled;
+    if constexpr (kDelta)
+      sampled = sample_bsdf(m, sc, vs.lobe, vs.direction, bs);
+    else
+      sampled = sample_diffuse(m, sc, vs.direction, bs);
+    if (!sampled) {
+      ++c.paths_ended_absorbed;
+      break;
     }
     beta *= bs.weight;
     eta_scale *= bs.eta_scale;
@@ -167,7 +171,10 @@ vec3 trace_path_impl(const RenderScene& scene, const RenderParams& params, float
     // Russian roulette on the throughput with the eta^2 scaling undone (pbrt-v4 section 13.4.4). Without glass
     // eta_scale stays exactly 1, and the division, on the loop's critical path, is skipped.
     const float rr_max = kDelta ? max_component(beta / eta_scale) : max_component(beta);
-    if (!(rr_max > 0.0f)) break;
+    if (!(rr_max > 0.0f)) {
+      ++c.paths_ended_absorbed;
+      break;
+    }
     if (depth >= 2) {
       const float survive = roulette_survival(rr_max);
       if (survive < 1.0f) {

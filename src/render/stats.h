@@ -20,6 +20,10 @@ struct RenderCounters {
   uint64_t paths_ended_roulette = 0;
   uint64_t paths_ended_max_depth = 0;
   uint64_t paths_escaped = 0;
+  /// The BSDF sample failed (below the surface, or a mirror or glass turned by a shading normal) or left no
+  /// positive finite throughput (a black surface). With the three above, every sample's path ends for exactly one
+  /// counted reason.
+  uint64_t paths_ended_absorbed = 0;
 
   uint64_t rays() const { return camera_rays + bounce_rays + shadow_rays; }
   RenderCounters& operator+=(const RenderCounters& o) {
@@ -34,6 +38,7 @@ struct RenderCounters {
     paths_ended_roulette += o.paths_ended_roulette;
     paths_ended_max_depth += o.paths_ended_max_depth;
     paths_escaped += o.paths_escaped;
+    paths_ended_absorbed += o.paths_ended_absorbed;
     return *this;
   }
 };
@@ -45,7 +50,8 @@ inline std::vector<std::pair<const char*, uint64_t>> skipped_work(const RenderCo
           {"light_sampling_specular", c.light_sampling_skipped_specular},
           {"paths_ended_roulette", c.paths_ended_roulette},
           {"paths_ended_max_depth", c.paths_ended_max_depth},
-          {"paths_escaped", c.paths_escaped}};
+          {"paths_escaped", c.paths_escaped},
+          {"paths_ended_absorbed", c.paths_ended_absorbed}};
 }
 
 }  // namespace pt

@@ -208,6 +208,13 @@ TEST(CliContract, StatsJsonHasTheContractKeys) {
   EXPECT_LE(depth, binary_nodes);
   EXPECT_GT(j["bvh"]["nodes"].get<int>(), 0);
   EXPECT_GT(j["skipped"]["light_sampling_specular"].get<double>(), 0);  // glass and mirror spheres
+  // Every sample's path ends for one of the reasons listed.
+  double ended = 0.0;
+  for (const char* key : {"paths_escaped", "paths_ended_max_depth", "paths_ended_roulette", "paths_ended_absorbed"}) {
+    ASSERT_TRUE(j["skipped"].contains(key)) << key;
+    ended += j["skipped"][key].get<double>();
+  }
+  EXPECT_EQ(ended, j["samples"].get<double>());
 }
 
 /// Image-mean difference of two PFMs in units of its standard error, estimated from the per-pixel differences

@@ -1,13 +1,12 @@
 // The integrator against closed-form answers: furnaces, polygon-light irradiance, sphere-light irradiance, and
 // agreement of all three strategies. Each test would fail on a biased or wrong estimator.
 #include <gtest/gtest.h>
-
-#include <cmath>
-#include <limits>
-
 #include <unistd.h>
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
+#include <limits>
 
 #include "render/analytic.h"
 #include "render/names.h"
@@ -632,6 +631,52 @@ TEST(Counters, EveryVertexIsAccountedFor) {
         EXPECT_GT(c.light_sampling_skipped_specular, 0u) << what;
       } else {
         EXPECT_EQ(c.light_sampling_skipped_specular, 0u) << what;
+      }
+    }
+  }
+}
+
+// Every path ends for exactly one counted reason: it escapes, reaches the maximum depth, is ended by roulette, or
+// is absorbed (the BSDF sample failed or left no throughput). A black wall absorbs every path that reaches it; on a
+// pyramid whose smooth shading normals lean up to 60 degrees from its faces many bounces fall below the surface.
+TEST(Counters, EveryPathEndsForOneCountedReason) {
+  Renderer renderer(2);
+  for (int variant = 0; variant < 4; ++variant) {
+    Scene s = test::make_test_cornell();
+    if (variant == 1) test::make_diffuse_only(s, vec3(0.6f, 0.5f, 0.4f));
+    if (variant == 2) {
+      const auto wall = std::find_if(s.materials.begin(), s.materials.end(), [](const Material& m) {
+        return m.type == MaterialType::diffuse && !m.emissive();
+      });
+      ASSERT_NE(wall, s.materials.end());
+      wall->albedo = vec3(0.0f);
+    }
+    if (variant == 3) {
+      Mesh pyramid;  // on the floor, apex up, faces outward
+      pyramid.positions = {vec3(-0.3f, 0, -0.1f), vec3(0.3f, 0, -0.1f), vec3(0.3f, 0, -0.7f), vec3(-0.3f, 0, -0.7f),
+                           vec3(0, 0.3f, -0.4f)};
+      pyramid.indices = {uvec3(0, 1, 4), uvec3(1, 2, 4), uvec3(2, 3, 4), uvec3(3, 0, 4)};
+      for (vec3 q : pyramid.positions) pyramid.normals.push_back(glm::normalize(q - vec3(0, 0.12f, -0.4f)));
+      pyramid.normal_indices = pyramid.indices;
+      pyramid.materials.assign(pyramid.indices.size(), 0);
+      s.meshes.push_back(pyramid);
+    }
+    const RenderScene rs = make_render_scene(s);
+    for (IntegratorKind k : kIntegrators) {
+      RenderParams p;
+      p.width = p.height = 24;
+      p.max_depth = 6;
+      p.integrator = k;
+      Film film(p.width, p.height);
+      RenderCounters c;
+      for (uint32_t f = 0; f < 2; ++f) renderer.render_frame(rs, p, film, f, c);
+      const std::string what = std::string(name_of(k)) + " variant " + std::to_string(variant);
+      EXPECT_EQ(c.samples, uint64_t(2 * p.width * p.height)) << what;
+      EXPECT_EQ(c.paths_escaped + c.paths_ended_max_depth + c.paths_ended_roulette + c.paths_ended_absorbed, c.samples)
+          << what;
+      EXPECT_GT(c.paths_ended_absorbed, 0u) << what;  // at least the paths that reach the light (albedo 0)
+      if (variant != 2) {
+        EXPECT_GT(c.paths_ended_roulette, 0u) << what;  // the white walls are black in variant 2
       }
     }
   }
