@@ -638,7 +638,7 @@ TEST(Counters, EveryVertexIsAccountedFor) {
 
 // Every path ends for exactly one counted reason: it escapes, reaches the maximum depth, is ended by roulette, or
 // is absorbed (the BSDF sample failed or left no throughput). A black wall absorbs every path that reaches it; on a
-// pyramid whose smooth shading normals lean up to 60 degrees from its faces many bounces fall below the surface.
+// pyramid whose smooth shading normals lean up to 73 degrees from its faces many bounces fall below the surface.
 TEST(Counters, EveryPathEndsForOneCountedReason) {
   Renderer renderer(2);
   for (int variant = 0; variant < 4; ++variant) {
