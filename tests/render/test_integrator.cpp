@@ -599,6 +599,18 @@ TEST(Integrators, AutomaticResolvesToMisOnlyUnderAreaSampling) {
     for (LightSampling m : kModes) EXPECT_EQ(resolve_integrator(k, m), k) << config_name(k, m);
 }
 
+/// The counters of two frames of 24 x 24 pixels, depth 6 (deep enough that some paths reach the limit).
+RenderCounters count_two_frames(Renderer& renderer, const RenderScene& rs, IntegratorKind k) {
+  RenderParams p;
+  p.width = p.height = 24;
+  p.max_depth = 6;
+  p.integrator = k;
+  Film film(p.width, p.height);
+  RenderCounters c;
+  for (uint32_t f = 0; f < 2; ++f) renderer.render_frame(rs, p, film, f, c);
+  return c;
+}
+
 // The counters account for every path vertex: each closest-hit ray either escapes, ends the path at the maximum
 // depth, or reaches a surface that samples the lights (a shadow ray, or one of the reasons none was cast) or skips
 // light sampling because it is a mirror or glass. Under BSDF sampling nothing samples lights.
@@ -610,13 +622,7 @@ TEST(Counters, EveryVertexIsAccountedFor) {
     const RenderScene rs = make_render_scene(s);
     ASSERT_EQ(rs.features.has_delta, delta);
     for (IntegratorKind k : kIntegrators) {
-      RenderParams p;
-      p.width = p.height = 24;
-      p.max_depth = 6;
-      p.integrator = k;
-      Film film(p.width, p.height);
-      RenderCounters c;
-      for (uint32_t f = 0; f < 2; ++f) renderer.render_frame(rs, p, film, f, c);
+      const RenderCounters c = count_two_frames(renderer, rs, k);
       const std::string what = std::string(name_of(k)) + (delta ? " with mirrors and glass" : " diffuse only");
       const uint64_t hits = c.camera_rays + c.bounce_rays - c.paths_escaped - c.paths_ended_max_depth;
       const uint64_t light_sampled = c.shadow_rays + c.shadow_skipped_backfacing + c.shadow_skipped_zero_bsdf;
@@ -663,15 +669,9 @@ TEST(Counters, EveryPathEndsForOneCountedReason) {
     }
     const RenderScene rs = make_render_scene(s);
     for (IntegratorKind k : kIntegrators) {
-      RenderParams p;
-      p.width = p.height = 24;
-      p.max_depth = 6;
-      p.integrator = k;
-      Film film(p.width, p.height);
-      RenderCounters c;
-      for (uint32_t f = 0; f < 2; ++f) renderer.render_frame(rs, p, film, f, c);
+      const RenderCounters c = count_two_frames(renderer, rs, k);
       const std::string what = std::string(name_of(k)) + " variant " + std::to_string(variant);
-      EXPECT_EQ(c.samples, uint64_t(2 * p.width * p.height)) << what;
+      EXPECT_EQ(c.samples, uint64_t(2 * 24 * 24)) << what;
       EXPECT_EQ(c.paths_escaped + c.paths_ended_max_depth + c.paths_ended_roulette + c.paths_ended_absorbed, c.samples)
           << what;
       EXPECT_GT(c.paths_ended_absorbed, 0u) << what;  // at least the paths that reach the light (albedo 0)
